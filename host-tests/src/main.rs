@@ -1,0 +1,3 @@
+//! `rbtrack`: command-line front end of the host harness.
+
+fn main() {}

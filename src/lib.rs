@@ -1,0 +1,26 @@
+//! rbtrack: a `no_std`, allocation-free, fixed-point visual object tracker core.
+//!
+//! # Layers, from the bottom
+//! - [`fixed`]: the Q16.16 number type; saturating arithmetic and square root.
+//! - [`rng`]: seeded Xoshiro128++ draws, uniform and standard normal, without floats.
+//! - [`image`]: [`image::ImageView`], a checked borrowed frame, and its pixel formats.
+//! - [`window`]: the pixels of an elliptical window, clipped to the frame, with their
+//!   Epanechnikov kernel weights and a cap on how many are visited.
+//! - [`hist`]: kernel-weighted colour histograms and the Bhattacharyya coefficient.
+//! - [`cue`]: the boundary-gradient cue.
+//! - [`resample`]: effective sample size and four resampling schemes.
+//! - [`kalman`]: the hand-unrolled 4-state, 2-measurement Kalman filter.
+#![no_std]
+#![forbid(unsafe_code)]
+
+#[cfg(test)]
+extern crate std;
+
+pub mod cue;
+pub mod fixed;
+pub mod hist;
+pub mod image;
+pub mod kalman;
+pub mod resample;
+pub mod rng;
+pub mod window;
