@@ -44,21 +44,25 @@ impl Q16 {
     pub const EPSILON: Self = Self(1);
 
     /// From the raw representation (`value * 65536`).
+    #[inline]
     pub const fn from_bits(bits: i32) -> Self {
         Self(bits)
     }
 
     /// The raw representation (`value * 65536`).
+    #[inline]
     pub const fn to_bits(self) -> i32 {
         self.0
     }
 
     /// From an integer, saturating outside `[-32768, 32767]`.
+    #[inline]
     pub const fn from_int(n: i32) -> Self {
         Self::saturate(n as i64 * 65536)
     }
 
     /// `num / den` rounded toward zero, saturating; `den == 0` gives [`Q16::ZERO`].
+    #[inline]
     pub const fn from_ratio(num: i64, den: i64) -> Self {
         if den == 0 {
             return Self::ZERO;
@@ -75,17 +79,20 @@ impl Q16 {
 
     /// From a float, rounded to nearest and saturating (NaN gives zero). Configuration
     /// time only: the per-frame path never converts floats.
+    #[inline]
     pub fn from_f64(v: f64) -> Self {
         // `as` saturates and maps NaN to 0.
         Self(libm::round(v * 65536.0) as i32)
     }
 
     /// To a float, exactly (for reports, tests and configuration-time tables).
+    #[inline]
     pub fn to_f64(self) -> f64 {
         self.0 as f64 / 65536.0
     }
 
     /// Saturates an `i64` raw value to the `i32` range.
+    #[inline]
     pub const fn saturate(bits: i64) -> Self {
         if bits > i32::MAX as i64 {
             Self::MAX
@@ -97,32 +104,38 @@ impl Q16 {
     }
 
     /// Largest integer not above `self`.
+    #[inline]
     pub const fn floor_int(self) -> i32 {
         self.0 >> 16
     }
 
     /// Nearest integer, halves rounded up.
+    #[inline]
     pub const fn round_int(self) -> i32 {
         ((self.0 as i64 + 0x8000) >> 16) as i32
     }
 
     /// Saturating addition.
+    #[inline]
     pub const fn saturating_add(self, rhs: Self) -> Self {
         Self(self.0.saturating_add(rhs.0))
     }
 
     /// Saturating subtraction.
+    #[inline]
     pub const fn saturating_sub(self, rhs: Self) -> Self {
         Self(self.0.saturating_sub(rhs.0))
     }
 
     /// Saturating product, rounded to nearest.
+    #[inline]
     pub const fn saturating_mul(self, rhs: Self) -> Self {
         Self::saturate((self.0 as i64 * rhs.0 as i64 + 0x8000) >> 16)
     }
 
     /// Saturating quotient, rounded toward zero; division by zero saturates toward the
     /// dividend's sign (`0 / 0` is zero).
+    #[inline]
     pub const fn saturating_div(self, rhs: Self) -> Self {
         if rhs.0 == 0 {
             return if self.0 > 0 {
@@ -137,16 +150,19 @@ impl Q16 {
     }
 
     /// Product with an integer, saturating.
+    #[inline]
     pub const fn mul_int(self, n: i32) -> Self {
         Self::saturate(self.0 as i64 * n as i64)
     }
 
     /// Absolute value, saturating (`|MIN|` is `MAX`).
+    #[inline]
     pub const fn abs(self) -> Self {
         Self(self.0.saturating_abs())
     }
 
     /// Square root, rounded down; negative input gives zero.
+    #[inline]
     pub const fn sqrt(self) -> Self {
         if self.0 <= 0 {
             return Self::ZERO;
@@ -156,6 +172,7 @@ impl Q16 {
     }
 
     /// The smaller of two values.
+    #[inline]
     pub const fn min(self, other: Self) -> Self {
         if self.0 < other.0 {
             self
@@ -165,6 +182,7 @@ impl Q16 {
     }
 
     /// The larger of two values.
+    #[inline]
     pub const fn max(self, other: Self) -> Self {
         if self.0 > other.0 {
             self
@@ -174,6 +192,7 @@ impl Q16 {
     }
 
     /// `self` limited to `[lo, hi]` (`lo <= hi` is the caller's contract).
+    #[inline]
     pub const fn clamp(self, lo: Self, hi: Self) -> Self {
         self.max(lo).min(hi)
     }
@@ -181,6 +200,7 @@ impl Q16 {
 
 impl Add for Q16 {
     type Output = Self;
+    #[inline]
     fn add(self, rhs: Self) -> Self {
         self.saturating_add(rhs)
     }
@@ -188,6 +208,7 @@ impl Add for Q16 {
 
 impl Sub for Q16 {
     type Output = Self;
+    #[inline]
     fn sub(self, rhs: Self) -> Self {
         self.saturating_sub(rhs)
     }
@@ -195,6 +216,7 @@ impl Sub for Q16 {
 
 impl Mul for Q16 {
     type Output = Self;
+    #[inline]
     fn mul(self, rhs: Self) -> Self {
         self.saturating_mul(rhs)
     }
@@ -202,6 +224,7 @@ impl Mul for Q16 {
 
 impl Div for Q16 {
     type Output = Self;
+    #[inline]
     fn div(self, rhs: Self) -> Self {
         self.saturating_div(rhs)
     }
@@ -209,18 +232,21 @@ impl Div for Q16 {
 
 impl Neg for Q16 {
     type Output = Self;
+    #[inline]
     fn neg(self) -> Self {
         Self(self.0.saturating_neg())
     }
 }
 
 impl AddAssign for Q16 {
+    #[inline]
     fn add_assign(&mut self, rhs: Self) {
         *self = *self + rhs;
     }
 }
 
 impl SubAssign for Q16 {
+    #[inline]
     fn sub_assign(&mut self, rhs: Self) {
         *self = *self - rhs;
     }
