@@ -4,6 +4,9 @@
 //! for i in 0..=255, and `HALF_NORMAL_TAIL_Q16[j]` refines the last bin: the quantile at
 //! probability `(255 + j / 256) / 256` for j in 0..=255, closed by the value at
 //! `1 - 2^-24` (5.33). All in Q16.16.
+//!
+//! Also `EXP_NEG_Q16[i] = round(65535 * exp(-i / 64))` for i in 0..=1024 into
+//! `OUT_DIR/exp_table.rs`, the likelihood table of `likelihood::exp_neg`.
 
 use std::{env, fs, path::Path};
 
@@ -57,5 +60,15 @@ fn main() {
     out += &table("HALF_NORMAL_TAIL_Q16", &tail);
     let path = Path::new(&env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("normal_table.rs");
     fs::write(path, out).expect("OUT_DIR is writable");
+    let exp: Vec<String> = (0..=1024)
+        .map(|i| ((-(i as f64) / 64.0).exp() * 65535.0).round().to_string())
+        .collect();
+    let exp_table = format!(
+        "pub(crate) const EXP_NEG_Q16: [u16; 1025] = [{}];\n",
+        exp.join(", ")
+    );
+    let exp_path =
+        Path::new(&env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("exp_table.rs");
+    fs::write(exp_path, exp_table).expect("OUT_DIR is writable");
     println!("cargo:rerun-if-changed=build.rs");
 }

@@ -10,6 +10,8 @@
 //! - [`cue`]: the boundary-gradient cue.
 //! - [`resample`]: effective sample size and four resampling schemes.
 //! - [`kalman`]: the hand-unrolled 4-state, 2-measurement Kalman filter.
+//! - [`likelihood`]: cue costs to likelihoods, `exp(-cost)` by table.
+//! - [`profile`]: the cycle-counter hook and per-stage cycle counts.
 #![no_std]
 #![forbid(unsafe_code)]
 
@@ -21,6 +23,8 @@ pub mod fixed;
 pub mod hist;
 pub mod image;
 pub mod kalman;
+pub mod likelihood;
+pub mod profile;
 pub mod resample;
 pub mod rng;
 pub mod window;
