@@ -1,0 +1,504 @@
+//! The two trackers: the colour particle filter and the Rao-Blackwellised particle filter,
+//! one engine with a [`Variant`] switch.
+//!
+//! Both share the window, histogram, cue, resampling and read-out code; they differ in how
+//! a particle's ellipse size moves (sampled, or a Kalman filter per particle fed by a
+//! once-per-frame scale measurement) and in the weight (colour, or colour and gradient).
+//!
+//! # One step
+//! 1. **Propagate**: constant-velocity drift with Gaussian noise; the size is scaled by a
+//!    random factor (colour PF) or predicted by eq. 7 of the RBPF paper, the half-height
+//!    following the vertical motion by `scale_per_row` and the aspect ratio kept (RBPF),
+//!    with one shared Kalman covariance prediction. While the target is lost, a share of
+//!    the particles is first re-drawn uniformly over the frame.
+//! 2. **Weigh**: every particle's window gives a histogram, its Bhattacharyya coefficient
+//!    against the model gives the colour cost, the boundary gradient the gradient cost
+//!    (RBPF); `exp(-cost)` by table multiplies the particle's weight. Weights are then
+//!    normalised; if all vanished they become uniform.
+//! 3. **Update** (RBPF): the size is measured once, around the weighted mean: of five
+//!    scales `1 + {0, -1, 1, -2, 2} scale_step` of the mean predicted ellipse, the one of
+//!    highest likelihood (same cues as the particles) gives `Y = (Hy, Hx)`; every leaf mean
+//!    takes the Kalman update with the shared gain.
+//! 4. **Estimate**: weighted mean, best particle or robust mean; its window's Bhattacharyya
+//!    coefficient is the confidence, which sets the [`Status`] and, when high, blends the
+//!    window's histogram into the model.
+//! 5. **Resample** when the effective sample size is below `resample_below * N`.
+//!
+//! # Bounded work
+//! A step visits at most `(N + 6) * pixels_per_window` pixels: `N` particle windows, one
+//! estimate window and, for the RBPF, five scale windows; the RBPF's gradient cue reads
+//! `(N + 5) * gradient_points * (2 * gradient_search + 1)` 5-tap gradients on top.
+//! [`Tracker::pixels_visited`] reports the figure of the last step.
+//!
+//! # Examples
+//! ```
+//! use rbtrack::fixed::Q16;
+//! use rbtrack::image::{ImageView, Rgb888, Rgb8x8x8};
+//! use rbtrack::tracker::{Config, Status, Tracker, Variant};
+//! use rbtrack::window::Ellipse;
+//!
+//! // A red square on grey, 64x48 RGB888.
+//! let (w, h) = (64, 48);
+//! let mut buf = vec![128u8; w * h * 3];
+//! for y in 14..34 {
+//!     for x in 22..42 {
+//!         buf[(y * w + x) * 3..][..3].copy_from_slice(&[220, 30, 30]);
+//!     }
+//! }
+//! let frame = ImageView::<Rgb888>::new(&buf, w, h, w).unwrap();
+//! let start = Ellipse {
+//!     cx: Q16::from_f64(31.5),
+//!     cy: Q16::from_f64(23.5),
+//!     hx: Q16::from_int(10),
+//!     hy: Q16::from_int(10),
+//! };
+//! let config = Config::new(Variant::Rbpf);
+//! let mut tracker = Tracker::<Rgb8x8x8, 50, 512>::new(config, &frame, start).unwrap();
+//! let estimate = tracker.step(&frame);
+//! assert_eq!(estimate.status, Status::Tracking);
+//! assert!((estimate.ellipse.cx.to_f64() - 31.5).abs() < 3.0);
+//! ```
+
+mod config;
+mod particle;
+
+pub use config::{Config, ConfigError, CueMix, Readout, Variant};
+pub use particle::Particle;
+
+use crate::cue::{GradientConfig, GradientCue};
+use crate::fixed::Q16;
+use crate::hist::{Histogram, Model};
+use crate::image::{Binning, ImageView, PixelFormat};
+use crate::kalman::{BlockNoise, SharedCovariance, Sym2};
+use crate::likelihood::exp_neg;
+use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
+use crate::resample::{effective_sample_size, normalise, resample, Normalised, WEIGHT_TOTAL};
+use crate::rng::Rng;
+use crate::window::Ellipse;
+use config::Derived;
+use core::marker::PhantomData;
+use particle::{predict_leaf, replicate, scale_randomly, Bounds, Motion};
+
+/// How sure the tracker is of its estimate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Status {
+    /// Confidence at or above `uncertain_below`.
+    Tracking,
+    /// Confidence in `[lost_below, uncertain_below)`.
+    Uncertain,
+    /// Confidence below `lost_below`: the tracker is searching the frame.
+    Lost,
+}
+
+/// Where the target is after a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Estimate {
+    /// Centre and half-axes, px, Q16.16; the centre is always inside the frame.
+    pub ellipse: Ellipse,
+    /// Horizontal velocity, px/frame, Q16.16.
+    pub vx: Q16,
+    /// Vertical velocity, px/frame, Q16.16.
+    pub vy: Q16,
+    /// Bhattacharyya coefficient of the estimate's window against the model, Q16.16 in
+    /// `[0, 1]`.
+    pub confidence: Q16,
+    /// Tracking, uncertain or lost.
+    pub status: Status,
+}
+
+/// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
+/// the binning `Bn` (`Bn::BINS == B`, checked at compile time).
+///
+/// Its RAM is its `size_of`, all inline: about `N * 40 + B * 14` bytes plus a fixed part
+/// of about 1 KiB (see `host-tests/tests/tracker_size.rs`).
+#[derive(Clone, Debug)]
+pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
+    config: Config,
+    derived: Derived,
+    cue: GradientCue,
+    initial_cov: Sym2,
+    leaf_cov: SharedCovariance,
+    rng: Rng,
+    particles: [Particle; N],
+    weights: [u32; N],
+    indices: [u16; N],
+    counts: [u16; N],
+    model: Model<B>,
+    hist: Histogram<B>,
+    estimate: Estimate,
+    last_confident: Ellipse,
+    pixels_visited: u32,
+    weight_recoveries: u32,
+    binning: PhantomData<Bn>,
+}
+
+impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
+    /// Checks `config`, builds the target model from the window `init` of `frame` and
+    /// places every particle on `init`.
+    ///
+    /// # Errors
+    /// [`ConfigError::OutOfRange`] naming the first bad field, [`ConfigError::ParticleCount`]
+    /// for `N` outside `1..=65535`, [`ConfigError::InitialEllipse`] for an ellipse with a
+    /// half-axis below `min_half_axis` or a centre outside the frame.
+    pub fn new<P: PixelFormat>(
+        config: Config,
+        frame: &ImageView<'_, P>,
+        init: Ellipse,
+    ) -> Result<Self, ConfigError> {
+        const { assert!(Bn::BINS == B, "the binning must have B bins") };
+        if N == 0 || N > crate::resample::MAX_PARTICLES {
+            return Err(ConfigError::ParticleCount);
+        }
+        let derived = config.derive()?;
+        let mut gradient = GradientConfig::new();
+        gradient.points = config.gradient_points as usize;
+        gradient.search_px = config.gradient_search as u32;
+        let cue = GradientCue::new(&gradient).map_err(|_| ConfigError::OutOfRange("gradient"))?;
+        let initial_cov = Sym2::diagonal(config.kalman_r, config.kalman_q);
+        let q = config.kalman_q;
+        let r = config.kalman_r;
+        let noise = BlockNoise::diagonal([q, q, q, q], [r, r]);
+        let leaf_cov = SharedCovariance::new(initial_cov, initial_cov, noise)
+            .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
+        let mut tracker = Self {
+            config,
+            derived,
+            cue,
+            initial_cov,
+            leaf_cov,
+            rng: Rng::new(config.seed),
+            particles: [Particle::default(); N],
+            weights: [0; N],
+            indices: [0; N],
+            counts: [0; N],
+            model: Model::from_histogram(&Histogram::new()),
+            hist: Histogram::new(),
+            estimate: Estimate {
+                ellipse: init,
+                vx: Q16::ZERO,
+                vy: Q16::ZERO,
+                confidence: Q16::ONE,
+                status: Status::Tracking,
+            },
+            last_confident: init,
+            pixels_visited: 0,
+            weight_recoveries: 0,
+            binning: PhantomData,
+        };
+        tracker.reset(frame, init)?;
+        Ok(tracker)
+    }
+
+    /// Re-initialises on the window `init` of `frame` (new model, particles on `init`,
+    /// fresh covariance) without rebuilding; the random stream continues.
+    ///
+    /// # Errors
+    /// [`ConfigError::InitialEllipse`] as for [`Tracker::new`]; the tracker is unchanged.
+    pub fn reset<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        init: Ellipse,
+    ) -> Result<(), ConfigError> {
+        let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
+        let inside = |v: Q16, max: Q16| v >= Q16::ZERO && v <= max;
+        if init.hx < self.config.min_half_axis
+            || init.hy < self.config.min_half_axis
+            || !inside(init.cx, bounds.max_x)
+            || !inside(init.cy, bounds.max_y)
+        {
+            return Err(ConfigError::InitialEllipse);
+        }
+        self.hist
+            .fill::<Bn, P>(frame, &init, self.config.pixels_per_window);
+        self.model = Model::from_histogram(&self.hist);
+        self.particles = [Particle::at(&init); N];
+        self.weights = [WEIGHT_TOTAL / N as u32; N];
+        self.leaf_cov = SharedCovariance::new(
+            self.initial_cov,
+            self.initial_cov,
+            *self.leaf_cov.noise(),
+        )
+        .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
+        self.estimate = Estimate {
+            ellipse: init,
+            vx: Q16::ZERO,
+            vy: Q16::ZERO,
+            confidence: Q16::ONE,
+            status: Status::Tracking,
+        };
+        self.last_confident = init;
+        Ok(())
+    }
+
+    /// One frame: propagate, weigh, update, estimate, resample.
+    pub fn step<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
+        self.step_profiled(frame, NoCounter).0
+    }
+
+    /// [`Tracker::step`], reading `counter` at each stage boundary.
+    pub fn step_profiled<P: PixelFormat, C: CycleCounter>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        counter: C,
+    ) -> (Estimate, StageCycles) {
+        let mut watch = Stopwatch::start(counter);
+        let mut cycles = StageCycles::default();
+        let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
+        self.pixels_visited = 0;
+
+        self.propagate(&bounds);
+        cycles.propagate = watch.lap();
+
+        self.weigh(frame);
+        cycles.weigh = watch.lap();
+
+        if self.config.variant == Variant::Rbpf {
+            self.update_sizes(frame, &bounds);
+        }
+        cycles.update = watch.lap();
+
+        self.estimate = self.read_out(frame);
+        cycles.estimate = watch.lap();
+
+        self.resample_if_degenerate();
+        cycles.resample = watch.lap();
+        (self.estimate, cycles)
+    }
+
+    /// The estimate of the last step (the initial ellipse before any).
+    pub fn estimate(&self) -> Estimate {
+        self.estimate
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// The particles, after the last step's resampling.
+    pub fn particles(&self) -> &[Particle; N] {
+        &self.particles
+    }
+
+    /// Pixels read into histograms in the last step (`<= (N + 6) * pixels_per_window`).
+    pub fn pixels_visited(&self) -> u32 {
+        self.pixels_visited
+    }
+
+    /// Steps whose weights all vanished and were reset to uniform, since construction.
+    pub fn weight_recoveries(&self) -> u32 {
+        self.weight_recoveries
+    }
+
+    fn propagate(&mut self, bounds: &Bounds) {
+        if self.estimate.status == Status::Lost {
+            self.redetect(bounds);
+        }
+        let motion = Motion {
+            position_noise: self.config.position_noise,
+            velocity_noise: self.config.velocity_noise,
+            velocity_keep: self.config.velocity_keep,
+        };
+        let rng = &mut self.rng;
+        for p in self.particles.iter_mut() {
+            let y_before = p.y;
+            motion.drift(p, rng, bounds);
+            match self.config.variant {
+                Variant::ColourPf => scale_randomly(p, self.config.scale_noise, rng, bounds),
+                Variant::Rbpf => predict_leaf(
+                    p,
+                    p.y - y_before,
+                    self.config.scale_per_row,
+                    self.config.scale_noise,
+                    rng,
+                    bounds,
+                ),
+            }
+        }
+        if self.config.variant == Variant::Rbpf {
+            self.leaf_cov.predict(Q16::ONE);
+        }
+    }
+
+    /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized
+    /// as the last confident estimate moved along the ground-plane relation to their row.
+    fn redetect(&mut self, bounds: &Bounds) {
+        let count = (self.config.redetect_share.to_bits() as u64 * N as u64) >> 16;
+        let last = self.last_confident;
+        let width = bounds.max_x.floor_int() as u32 + 1;
+        let height = bounds.max_y.floor_int() as u32 + 1;
+        for p in self.particles.iter_mut().take(count as usize) {
+            let x = Q16::from_int(self.rng.below(width) as i32);
+            let y = Q16::from_int(self.rng.below(height) as i32);
+            let hy = bounds.half(last.hy + self.config.scale_per_row * (y - last.cy));
+            let hx = bounds.half(last.hx * (hy / last.hy));
+            *p = Particle::at(&Ellipse { cx: x, cy: y, hx, hy });
+        }
+        self.weights = [WEIGHT_TOTAL / N as u32; N];
+    }
+
+    /// Likelihood of window `e`, Q0.16 in `0..=65535`, and its Bhattacharyya coefficient.
+    fn likelihood<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, e: &Ellipse) -> (u32, Q16) {
+        self.pixels_visited = self.pixels_visited.saturating_add(self.hist.fill::<Bn, P>(
+            frame,
+            e,
+            self.config.pixels_per_window,
+        ));
+        let rho = self.hist.bhattacharyya(&self.model);
+        let colour_cost = self.derived.colour.cost(Q16::ONE - rho);
+        let likelihood = match self.config.variant {
+            Variant::ColourPf => exp_neg(colour_cost),
+            Variant::Rbpf => {
+                let miss = Q16::ONE - self.cue.evaluate(frame, e);
+                let gradient_cost = self.derived.gradient.cost(miss * miss);
+                match self.config.cue_mix {
+                    CueMix::Product => exp_neg(colour_cost + gradient_cost),
+                    CueMix::Average(a) => {
+                        let a = a.to_bits() as u64; // Q16.16 in 0..=65536
+                        ((a * exp_neg(colour_cost) as u64
+                            + (65536 - a) * exp_neg(gradient_cost) as u64)
+                            >> 16) as u32
+                    }
+                }
+            }
+        };
+        (likelihood, rho)
+    }
+
+    fn weigh<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) {
+        for i in 0..N {
+            let e = self.particles[i].ellipse();
+            let (likelihood, _) = self.likelihood(frame, &e);
+            // weight <= 2^24 (normalised) times likelihood < 2^16, over 2^8: below 2^32.
+            self.weights[i] = ((self.weights[i] as u64 * likelihood as u64) >> 8) as u32;
+        }
+        if normalise(&mut self.weights) == Normalised::AllZero {
+            self.weight_recoveries = self.weight_recoveries.saturating_add(1);
+        }
+    }
+
+    /// Measures the size around the weighted mean and gives every leaf the Kalman update.
+    fn update_sizes<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, bounds: &Bounds) {
+        let mean = self.weighted_mean(|_| true);
+        let step = self.config.scale_step;
+        let mut best = (0u32, Q16::ONE);
+        for k in [0, -1, 1, -2, 2] {
+            let factor = Q16::ONE + step.mul_int(k);
+            let e = Ellipse {
+                hx: bounds.half(mean.ellipse.hx * factor),
+                hy: bounds.half(mean.ellipse.hy * factor),
+                ..mean.ellipse
+            };
+            let (likelihood, _) = self.likelihood(frame, &e);
+            if likelihood > best.0 {
+                best = (likelihood, factor);
+            }
+        }
+        if best.0 == 0 {
+            return; // nothing measured: keep the prediction
+        }
+        let y = [
+            bounds.half(mean.ellipse.hy * best.1),
+            bounds.half(mean.ellipse.hx * best.1),
+        ];
+        let gain = self.leaf_cov.gain();
+        for p in self.particles.iter_mut() {
+            gain.update_mean(&mut p.leaf, y);
+            p.leaf[0] = bounds.half(p.leaf[0]);
+            p.leaf[2] = bounds.half(p.leaf[2]);
+        }
+        self.leaf_cov.update_cov();
+    }
+
+    /// Weighted mean of the particles that `keep` accepts (all weights normalised).
+    fn weighted_mean(&self, keep: impl Fn(&Particle) -> bool) -> Estimate {
+        let mut sums = [0i64; 6];
+        let mut total = 0i64;
+        for (p, &w) in self.particles.iter().zip(self.weights.iter()) {
+            if !keep(p) {
+                continue;
+            }
+            let w = w as i64;
+            total += w;
+            for (s, v) in sums
+                .iter_mut()
+                .zip([p.x, p.y, p.vx, p.vy, p.leaf[2], p.leaf[0]])
+            {
+                *s += w * v.to_bits() as i64;
+            }
+        }
+        let [cx, cy, vx, vy, hx, hy] = sums.map(|s| Q16::saturate(s / total.max(1)));
+        Estimate {
+            ellipse: Ellipse { cx, cy, hx, hy },
+            vx,
+            vy,
+            confidence: Q16::ZERO,
+            status: Status::Lost,
+        }
+    }
+
+    fn best_particle(&self) -> Particle {
+        let mut best = (0u32, Particle::default());
+        for (p, &w) in self.particles.iter().zip(self.weights.iter()) {
+            if w >= best.0 {
+                best = (w, *p);
+            }
+        }
+        best.1
+    }
+
+    fn read_out<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
+        let mut estimate = match self.config.readout {
+            Readout::Mean => self.weighted_mean(|_| true),
+            Readout::Best => {
+                let best = self.best_particle();
+                Estimate {
+                    ellipse: best.ellipse(),
+                    vx: best.vx,
+                    vy: best.vy,
+                    confidence: Q16::ZERO,
+                    status: Status::Lost,
+                }
+            }
+            Readout::RobustMean(radius) => {
+                let best = self.best_particle();
+                self.weighted_mean(|p| (p.x - best.x).abs() <= radius && (p.y - best.y).abs() <= radius)
+            }
+        };
+        self.pixels_visited = self.pixels_visited.saturating_add(self.hist.fill::<Bn, P>(
+            frame,
+            &estimate.ellipse,
+            self.config.pixels_per_window,
+        ));
+        let confidence = self.hist.bhattacharyya(&self.model);
+        estimate.confidence = confidence;
+        estimate.status = if confidence < self.config.lost_below {
+            Status::Lost
+        } else if confidence < self.config.uncertain_below {
+            Status::Uncertain
+        } else {
+            Status::Tracking
+        };
+        if estimate.status == Status::Tracking {
+            self.last_confident = estimate.ellipse;
+        }
+        if confidence >= self.config.adapt_above && self.config.adapt_rate > Q16::ZERO {
+            self.model.update(&self.hist, self.config.adapt_rate);
+        }
+        estimate
+    }
+
+    fn resample_if_degenerate(&mut self) {
+        let threshold = self.config.resample_below.mul_int(N as i32);
+        if effective_sample_size(&self.weights) >= threshold {
+            return;
+        }
+        let scheme = self.config.resampling;
+        if resample(scheme, &mut self.weights, &mut self.rng, &mut self.indices).is_ok() {
+            replicate(&mut self.particles, &self.indices, &mut self.counts);
+        }
+        self.weights = [WEIGHT_TOTAL / N as u32; N];
+    }
+}

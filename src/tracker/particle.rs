@@ -1,0 +1,229 @@
+//! Particle state, its motion model and the in-place copy step of resampling.
+
+use crate::fixed::Q16;
+use crate::rng::Rng;
+use crate::window::Ellipse;
+
+/// One hypothesis: the sampled motion (root) and the ellipse size (leaf).
+///
+/// Colour PF: every field is sampled; the leaf rates stay zero. RBPF: the leaf is the mean
+/// of the particle's Kalman filter, `(Hy, dHy, Hx, dHx)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Particle {
+    /// Centre column, px, Q16.16.
+    pub x: Q16,
+    /// Centre row, px, Q16.16.
+    pub y: Q16,
+    /// Horizontal velocity, px/frame, Q16.16.
+    pub vx: Q16,
+    /// Vertical velocity, px/frame, Q16.16.
+    pub vy: Q16,
+    /// `(Hy, dHy, Hx, dHx)`: half-axes, px, and their rates, px/frame, Q16.16.
+    pub leaf: [Q16; 4],
+}
+
+impl Particle {
+    /// A particle at rest on `e`.
+    pub fn at(e: &Ellipse) -> Self {
+        Self {
+            x: e.cx,
+            y: e.cy,
+            vx: Q16::ZERO,
+            vy: Q16::ZERO,
+            leaf: [e.hy, Q16::ZERO, e.hx, Q16::ZERO],
+        }
+    }
+
+    /// The particle's window.
+    pub fn ellipse(&self) -> Ellipse {
+        Ellipse {
+            cx: self.x,
+            cy: self.y,
+            hx: self.leaf[2],
+            hy: self.leaf[0],
+        }
+    }
+}
+
+/// Limits a propagated state must respect: the frame and the half-axis range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Bounds {
+    /// Largest centre column and row, px, Q16.16 (`width - 1`, `height - 1`).
+    pub max_x: Q16,
+    pub max_y: Q16,
+    /// Half-axis range, px, Q16.16.
+    pub min_half: Q16,
+    pub max_half: Q16,
+}
+
+impl Bounds {
+    pub(crate) fn for_frame(width: usize, height: usize, min_half: Q16) -> Self {
+        let max_x = Q16::from_int(width as i32 - 1);
+        let max_y = Q16::from_int(height as i32 - 1);
+        Self {
+            max_x,
+            max_y,
+            min_half,
+            max_half: max_x.max(max_y).max(min_half),
+        }
+    }
+
+    pub(crate) fn half(&self, h: Q16) -> Q16 {
+        h.clamp(self.min_half, self.max_half)
+    }
+}
+
+/// Noise levels of the motion model (Q16.16; see [`super::Config`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Motion {
+    pub position_noise: Q16,
+    pub velocity_noise: Q16,
+    pub velocity_keep: Q16,
+}
+
+impl Motion {
+    /// Constant-velocity drift with Gaussian noise:
+    /// `v <- keep v + sigma_v n`, `x <- x + v + sigma_p n`, centre clamped to the frame.
+    #[inline]
+    pub(crate) fn drift(&self, p: &mut Particle, rng: &mut Rng, bounds: &Bounds) {
+        p.vx = self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise);
+        p.vy = self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise);
+        p.x = (p.x + p.vx + rng.gaussian(self.position_noise)).clamp(Q16::ZERO, bounds.max_x);
+        p.y = (p.y + p.vy + rng.gaussian(self.position_noise)).clamp(Q16::ZERO, bounds.max_y);
+    }
+}
+
+/// Colour PF size step: both half-axes scaled by one factor `1 + sigma n`.
+#[inline]
+pub(crate) fn scale_randomly(p: &mut Particle, relative_noise: Q16, rng: &mut Rng, b: &Bounds) {
+    let factor = Q16::ONE + rng.gaussian(relative_noise);
+    p.leaf[0] = b.half(p.leaf[0] * factor);
+    p.leaf[2] = b.half(p.leaf[2] * factor);
+}
+
+/// RBPF leaf mean prediction (eq. 7 of the RBPF paper) for a particle that moved `dy` px
+/// down the image: `Hy^- = Hy + dHy + k dy` (`k` = alpha/beta, px/px),
+/// `Hx^- = Hx Hy^- / Hy` (aspect ratio kept), rates drawn around their previous values
+/// with standard deviation `rate_noise` (px/frame).
+#[inline]
+pub(crate) fn predict_leaf(
+    p: &mut Particle,
+    dy: Q16,
+    scale_per_row: Q16,
+    rate_noise: Q16,
+    rng: &mut Rng,
+    b: &Bounds,
+) {
+    let [hy, dhy, hx, dhx] = p.leaf;
+    let hy_pred = b.half(hy + dhy + scale_per_row * dy);
+    let hx_pred = b.half(Q16::saturate(
+        (hx.to_bits() as i64 * hy_pred.to_bits() as i64) / (hy.to_bits().max(1) as i64),
+    ));
+    p.leaf = [
+        hy_pred,
+        dhy + rng.gaussian(rate_noise),
+        hx_pred,
+        dhx + rng.gaussian(rate_noise),
+    ];
+}
+
+/// Replaces `particles` by the resampled set in place, given `indices` (each `< len`) that
+/// resampling drew: a particle drawn k >= 1 times keeps its slot and its extra copies fill
+/// the slots of particles drawn zero times. `counts` is scratch of the same length. The
+/// order differs from `indices`', which a particle filter does not see.
+pub(crate) fn replicate(particles: &mut [Particle], indices: &[u16], counts: &mut [u16]) {
+    counts.iter_mut().for_each(|c| *c = 0);
+    for &i in indices {
+        if let Some(c) = counts.get_mut(i as usize) {
+            *c = c.saturating_add(1);
+        }
+    }
+    let mut source = 0;
+    for slot in 0..particles.len().min(counts.len()) {
+        if counts[slot] != 0 {
+            continue;
+        }
+        // Next particle with a spare copy.
+        while source < counts.len() && counts[source] <= 1 {
+            source += 1;
+        }
+        if source >= counts.len() {
+            break;
+        }
+        counts[source] -= 1;
+        particles[slot] = particles[source];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tagged(n: usize) -> std::vec::Vec<Particle> {
+        (0..n)
+            .map(|i| Particle {
+                x: Q16::from_int(i as i32),
+                ..Particle::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn replicate_gives_the_drawn_multiset() {
+        let mut ps = tagged(6);
+        let indices = [4u16, 4, 4, 1, 0, 1];
+        let mut counts = [0u16; 6];
+        replicate(&mut ps, &indices, &mut counts);
+        let mut got: std::vec::Vec<i32> = ps.iter().map(|p| p.x.round_int()).collect();
+        got.sort();
+        assert_eq!(got, [0, 1, 1, 4, 4, 4]);
+    }
+
+    #[test]
+    fn replicate_identity_and_single_survivor() {
+        let mut ps = tagged(4);
+        replicate(&mut ps, &[0, 1, 2, 3], &mut [0; 4]);
+        assert_eq!(ps, tagged(4));
+        replicate(&mut ps, &[2, 2, 2, 2], &mut [0; 4]);
+        assert!(ps.iter().all(|p| p.x == Q16::from_int(2)));
+    }
+
+    #[test]
+    fn drift_stays_in_frame() {
+        let b = Bounds::for_frame(10, 8, Q16::ONE);
+        let m = Motion {
+            position_noise: Q16::from_int(50),
+            velocity_noise: Q16::from_int(50),
+            velocity_keep: Q16::ONE,
+        };
+        let mut rng = Rng::new(5);
+        let mut p = Particle::default();
+        for _ in 0..1000 {
+            m.drift(&mut p, &mut rng, &b);
+            assert!(p.x >= Q16::ZERO && p.x <= Q16::from_int(9));
+            assert!(p.y >= Q16::ZERO && p.y <= Q16::from_int(7));
+        }
+    }
+
+    #[test]
+    fn leaf_prediction_follows_rows_and_keeps_aspect() {
+        let b = Bounds::for_frame(320, 240, Q16::from_int(2));
+        let mut p = Particle::at(&Ellipse {
+            cx: Q16::from_int(100),
+            cy: Q16::from_int(100),
+            hx: Q16::from_int(10),
+            hy: Q16::from_int(20),
+        });
+        let mut rng = Rng::new(1);
+        // 10 px down with 0.5 px of half-height per px: Hy 20 -> 25, Hx 10 -> 12.5.
+        predict_leaf(&mut p, Q16::from_int(10), Q16::HALF, Q16::ZERO, &mut rng, &b);
+        assert_eq!(p.leaf[0], Q16::from_int(25));
+        assert_eq!(p.leaf[2], Q16::from_f64(12.5));
+        // Degenerate input stays within bounds.
+        p.leaf = [Q16::ZERO, Q16::MIN, Q16::MAX, Q16::MAX];
+        predict_leaf(&mut p, Q16::MAX, Q16::from_int(4), Q16::ONE, &mut rng, &b);
+        assert!(p.leaf[0] >= b.min_half && p.leaf[0] <= b.max_half);
+        assert!(p.leaf[2] >= b.min_half && p.leaf[2] <= b.max_half);
+    }
+}
