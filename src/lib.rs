@@ -12,6 +12,7 @@
 //! - [`kalman`]: the hand-unrolled 4-state, 2-measurement Kalman filter.
 //! - [`likelihood`]: cue costs to likelihoods, `exp(-cost)` by table.
 //! - [`profile`]: the cycle-counter hook and per-stage cycle counts.
+//! - [`tracker`]: the colour particle filter and the Rao-Blackwellised particle filter.
 #![no_std]
 #![forbid(unsafe_code)]
 
@@ -27,4 +28,5 @@ pub mod likelihood;
 pub mod profile;
 pub mod resample;
 pub mod rng;
+pub mod tracker;
 pub mod window;
