@@ -1,2 +1,8 @@
 //! Host harness for rbtrack: f64 reference implementations, synthetic scenes, metrics and
 //! the `rbtrack` command-line program.
+
+pub mod draw;
+pub mod metrics;
+pub mod progress;
+pub mod scene;
+pub mod sequence;

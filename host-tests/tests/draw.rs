@@ -1,0 +1,148 @@
+//! Drawing, image writing, plots and the progress line.
+
+use rbtrack_host::draw::*;
+use rbtrack_host::metrics::{precision_curve, success_curve, BBox};
+use rbtrack_host::progress::Progress;
+use std::path::PathBuf;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    let dir = std::env::temp_dir().join(format!(
+        "rbtrack-draw-{name}-{}-{nanos}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn px(rgb: &[u8], w: u32, x: u32, y: u32) -> [u8; 3] {
+    let i = ((y * w + x) * 3) as usize;
+    [rgb[i], rgb[i + 1], rgb[i + 2]]
+}
+
+#[test]
+fn box_outline_only() {
+    let (w, h) = (20, 10);
+    let mut rgb = vec![0u8; 20 * 10 * 3];
+    draw_box(&mut rgb, w, h, &BBox::new(2.0, 3.0, 6.0, 4.0), GREEN, 1);
+    assert_eq!(px(&rgb, w, 2, 3), GREEN);
+    assert_eq!(px(&rgb, w, 7, 6), GREEN);
+    assert_eq!(px(&rgb, w, 5, 3), GREEN);
+    assert_eq!(px(&rgb, w, 4, 4), [0, 0, 0]); // interior
+    assert_eq!(px(&rgb, w, 8, 3), [0, 0, 0]); // just outside
+}
+
+#[test]
+fn ellipse_outline() {
+    let (w, h) = (40, 40);
+    let mut rgb = vec![0u8; 40 * 40 * 3];
+    draw_ellipse(&mut rgb, w, h, (20.0, 20.0, 10.0, 5.0), RED_FOR_TEST, 1);
+    assert_eq!(px(&rgb, w, 30, 20), RED_FOR_TEST);
+    assert_eq!(px(&rgb, w, 10, 20), RED_FOR_TEST);
+    assert_eq!(px(&rgb, w, 20, 15), RED_FOR_TEST);
+    assert_eq!(px(&rgb, w, 20, 20), [0, 0, 0]);
+    draw_cross(&mut rgb, w, h, (20.0, 20.0), 2, GREEN);
+    assert_eq!(px(&rgb, w, 22, 20), GREEN);
+}
+
+const RED_FOR_TEST: Rgb = [255, 0, 0];
+
+#[test]
+fn drawing_never_panics_on_bad_input() {
+    let mut rgb = vec![0u8; 10 * 10 * 3];
+    let mut short = vec![0u8; 7];
+    for b in [
+        BBox::new(-50.0, -50.0, 200.0, 200.0),
+        BBox::new(f64::NAN, 0.0, 5.0, 5.0),
+        BBox::new(1e300, 1e300, 1e300, 1e300),
+        BBox::new(3.0, 3.0, -4.0, 0.0),
+    ] {
+        draw_box(&mut rgb, 10, 10, &b, GREEN, 3);
+        draw_box(&mut short, 10, 10, &b, GREEN, 3);
+    }
+    draw_ellipse(&mut rgb, 10, 10, (5.0, 5.0, f64::INFINITY, 2.0), GREEN, 2);
+    draw_ellipse(&mut rgb, 10, 10, (-100.0, 5.0, 3.0, 2.0), GREEN, 2);
+    draw_ellipse(&mut short, 10, 10, (5.0, 5.0, 3.0, 2.0), GREEN, 2);
+    draw_cross(&mut rgb, 10, 10, (f64::NAN, 1.0), 3, GREEN);
+    assert!(matches!(
+        save_png(std::env::temp_dir().join("never.png"), &short, 10, 10),
+        Err(DrawError::Size { .. })
+    ));
+}
+
+#[test]
+fn strip_gif_and_png_files() {
+    let dir = temp_dir("files");
+    let (w, h) = (16u32, 8u32);
+    let frames: Vec<Vec<u8>> = (0..3u8)
+        .map(|k| vec![k * 100; (w * h * 3) as usize])
+        .collect();
+    let refs: Vec<&[u8]> = frames.iter().map(|f| f.as_slice()).collect();
+
+    let (tiled, tw, th) = tile(&refs, w, h, 2, 4).unwrap();
+    assert_eq!((tw, th), (2 * (16 + 4) + 4, 2 * (8 + 4) + 4));
+    assert_eq!(tiled.len(), (tw * th * 3) as usize);
+    assert_eq!(px(&tiled, tw, 4 + 20, 4), [100; 3]); // second tile
+    assert_eq!(px(&tiled, tw, 4, 4 + 12), [200; 3]); // third tile, second row
+
+    save_strip(dir.join("strip.png"), &refs, w, h, 3).unwrap();
+    let strip = image::open(dir.join("strip.png")).unwrap();
+    assert_eq!((strip.width(), strip.height()), (3 * 20 + 4, 16));
+
+    save_gif(dir.join("anim.gif"), &refs, w, h, 100).unwrap();
+    let gif = std::fs::read(dir.join("anim.gif")).unwrap();
+    assert_eq!(&gif[..6], b"GIF89a");
+
+    assert!(matches!(
+        save_gif(dir.join("none.gif"), &[], w, h, 100),
+        Err(DrawError::Empty)
+    ));
+    assert!(matches!(tile(&[], w, h, 2, 4), Err(DrawError::Empty)));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn success_and_precision_plots() {
+    let dir = temp_dir("plots");
+    let ious: Vec<f64> = (0..50).map(|i| i as f64 / 50.0).collect();
+    let errors: Vec<f64> = (0..50).map(|i| i as f64).collect();
+    let (s, p) = (success_curve(&ious), precision_curve(&errors, 50));
+    let series = [Series {
+        label: "pf",
+        values: &s,
+    }];
+    success_plot(dir.join("success.png"), "Success", &series).unwrap();
+    let series = [Series {
+        label: "pf",
+        values: &p,
+    }];
+    precision_plot(dir.join("precision.png"), "Precision", &series).unwrap();
+    for f in ["success.png", "precision.png"] {
+        let img = image::open(dir.join(f)).unwrap().into_rgb8();
+        assert_eq!(img.dimensions(), PLOT_SIZE);
+        // Some dark pixels: axes and text were drawn.
+        assert!(img.pixels().filter(|p| p.0.iter().all(|&c| c < 80)).count() > 500);
+    }
+    assert!(matches!(
+        success_plot(dir.join("x.png"), "x", &[]),
+        Err(DrawError::Empty)
+    ));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn progress_line() {
+    let mut p = Progress::hidden("frames", 4);
+    p.inc(1);
+    p.inc(1);
+    let line = p.line();
+    assert!(line.starts_with("frames ["), "{line}");
+    assert!(line.contains("] 2/4 "), "{line}");
+    assert_eq!(line.matches('#').count(), 15);
+    assert_eq!(p.done(), 2);
+    p.finish();
+    assert!(Progress::hidden("none", 0).line().contains("0/0"));
+}
