@@ -4,5 +4,6 @@
 pub mod draw;
 pub mod metrics;
 pub mod progress;
+pub mod run;
 pub mod scene;
 pub mod sequence;
