@@ -186,9 +186,10 @@ impl GradientCue {
         }
         let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
         let (hx, hy) = (e.hx.to_bits() as i64, e.hy.to_bits() as i64); // 2^15..2^31
-        let longer = hx.max(hy);
+        let longer = hx.max(hy) as u64;
         // Half-axes relative to the longer one, Q16 in (0, 1].
-        let (rx, ry) = ((hx << 16) / longer, (hy << 16) / longer);
+        let rel = |h: i64| ((h as u64) << 16).checked_div(longer).unwrap_or(0) as i64;
+        let (rx, ry) = (rel(hx), rel(hy));
         let (w, h) = (img.width() as i64, img.height() as i64);
         let sat = (self.saturation as u64) << MAG_FRAC_BITS;
         let mut sum = 0u64;
@@ -198,11 +199,12 @@ impl GradientCue {
             let by = cy + ((hy * s) >> 16);
             // Normal (cos / hx, sin / hy), scaled by hx hy / longer: components Q16 <= 1.
             let (nx, ny) = ((c * ry) >> 16, (s * rx) >> 16);
-            let len = ((nx * nx + ny * ny) as u64).isqrt() as i64; // Q16
+            let len = ((nx * nx + ny * ny) as u64).isqrt() as i64; // Q16, <= 2^17
+            let unit = |v: i64| (v << 16).checked_div(len).unwrap_or(0);
             let (ux, uy) = if len == 0 {
                 (c, s)
             } else {
-                ((nx << 16) / len, (ny << 16) / len)
+                (unit(nx), unit(ny))
             };
             let mut best = 0u32;
             for j in -self.search..=self.search {
@@ -216,8 +218,9 @@ impl GradientCue {
             let mag = (best << (2 * MAG_FRAC_BITS)).isqrt() as u64;
             sum += mag.min(sat);
         }
-        let den = self.points as u64 * sat;
-        Q16::from_bits((((sum << 16) + den / 2) / den).min(1 << 16) as i32)
+        let den = self.points as u64 * sat; // >= 32: points >= 1, saturation >= 1
+        let g = ((sum << 16) + den / 2).checked_div(den).unwrap_or(0);
+        Q16::from_bits(g.min(1 << 16) as i32)
     }
 }
 

@@ -69,7 +69,7 @@ const SQRT_TABLE: [u32; 193] = {
 
 /// `sqrt(n) * 256` (Q24.8), rounded down within a relative error of 8e-6 plus 1 unit:
 /// `n` is shifted left by an even amount into `[2^30, 2^32)`, its top 8 bits index
-/// [`SQRT_TABLE`] and the next 16 interpolate linearly. No division, no loop.
+/// a table of `sqrt(64..=256)` and the next 16 interpolate linearly. No division, no loop.
 #[inline]
 pub fn sqrt_q8(n: u32) -> u32 {
     if n == 0 {
@@ -85,6 +85,29 @@ pub fn sqrt_q8(n: u32) -> u32 {
     };
     // hi - lo <= 65231 (at i = 0), so the product stays below 2^32.
     (lo + (((hi - lo) * frac) >> 16)) >> (shift / 2)
+}
+
+/// Adds `weight` to `counts[bin]` (saturating), listing `bin` in `touched` when its count
+/// leaves zero; returns whether `bin < B`.
+#[inline(always)]
+fn add_to<const B: usize>(
+    counts: &mut [u32; B],
+    touched: &mut heapless::Vec<u16, B>,
+    bin: u16,
+    weight: u32,
+) -> bool {
+    let Some(c) = counts.get_mut(bin as usize) else {
+        return false;
+    };
+    if *c == 0 {
+        if weight == 0 {
+            return true;
+        }
+        // Cannot fail: a bin enters the list once, while its count is zero.
+        let _ = touched.push(bin);
+    }
+    *c = c.saturating_add(weight);
+    true
 }
 
 /// A kernel-weighted colour histogram of `B` bins (`1 <= B <= 65536`).
@@ -143,15 +166,7 @@ impl<const B: usize> Histogram<B> {
     /// Adds `weight` (Q0.16 kernel weight) to `bin` (`< B`; larger bins are ignored).
     #[inline(always)]
     pub fn add(&mut self, bin: u16, weight: u32) {
-        if let Some(c) = self.counts.get_mut(bin as usize) {
-            if *c == 0 {
-                if weight == 0 {
-                    return;
-                }
-                // Cannot fail: a bin enters the list once, while its count is zero.
-                let _ = self.touched.push(bin);
-            }
-            *c = c.saturating_add(weight);
+        if add_to(&mut self.counts, &mut self.touched, bin, weight) {
             self.mass = self.mass.saturating_add(weight);
         }
     }
@@ -179,7 +194,15 @@ impl<const B: usize> Histogram<B> {
         cap: u32,
     ) -> u32 {
         const { assert!(Bn::BINS == B, "the binning must have B bins") };
-        visit(img, e, cap, |row, x, w| self.add(row.bin::<Bn>(x), w))
+        let (counts, touched) = (&mut self.counts, &mut self.touched);
+        // One window's mass is below 2^32 (window::MAX_CAP pixels of weight <= 2^16).
+        let mut mass = 0u32;
+        let n = visit(img, e, cap, |row, x, w| {
+            add_to(counts, touched, row.bin::<Bn>(x), w);
+            mass = mass.wrapping_add(w);
+        });
+        self.mass = self.mass.saturating_add(mass);
+        n
     }
 
     /// Total kernel mass, weight units (65536 per centre pixel), `0..=u32::MAX`.
@@ -362,6 +385,14 @@ mod tests {
     fn noise(len: usize, seed: u64) -> Vec<u8> {
         let mut r = Rng::new(seed);
         (0..len).map(|_| r.next_u32() as u8).collect()
+    }
+
+    /// RAM of the per-window scratch histogram and of the model, for 512 bins.
+    #[test]
+    fn sizes() {
+        use core::mem::size_of;
+        assert_eq!(size_of::<Model<512>>(), 4096);
+        assert!(size_of::<Histogram<512>>() <= 512 * 4 + 512 * 2 + 16);
     }
 
     #[test]

@@ -513,9 +513,10 @@ impl<'a, P: PixelFormat> ImageView<'a, P> {
     /// `(x, y)` (px, any values) clamped into the frame.
     #[inline(always)]
     pub fn clamp(&self, x: i32, y: i32) -> (usize, usize) {
+        // max then min (not `clamp`, which has a panic path for an inverted range).
         (
-            x.clamp(0, self.width as i32 - 1) as usize,
-            y.clamp(0, self.height as i32 - 1) as usize,
+            x.min(self.width as i32 - 1).max(0) as usize,
+            y.min(self.height as i32 - 1).max(0) as usize,
         )
     }
 

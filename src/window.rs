@@ -99,16 +99,18 @@ pub fn sampling_step(e: &Ellipse, cap: u32) -> u32 {
         return one_point as u32;
     }
     // Smallest s with (cap - 1) s^2 - 2 P s - A >= 0, P = hx + hy, A = pi hx hy (px^2),
-    // worked in 1/16 px with every quantity rounded up (pi as 355/113 > pi).
+    // worked in 1/16 px with every quantity rounded up (pi as 3217/1024 > pi).
     let (hx16, hy16) = ((hx + 4095) >> 12, (hy + 4095) >> 12); // <= 2^19
     let p16 = hx16 + hy16; // <= 2^20
-    let a256 = (hx16 * hy16 * 355).div_ceil(113); // <= 2^40, px^2 / 256
+    let a256 = (hx16 * hy16 * 3217 + 1023) >> 10; // <= 2^40, px^2 / 256
     let disc = p16 * p16 + (cap - 1) * a256; // <= 2^57
-    let mut root = disc.isqrt();
+    let mut root = disc.isqrt(); // <= 2^29
     if root * root < disc {
         root += 1;
     }
-    let s = (p16 + root).div_ceil(16 * (cap - 1));
+    let num = (p16 + root) as u32; // < 2^30
+    let den = 16 * (cap as u32 - 1); // 16..2^20
+    let s = num.div_ceil(den.max(1)) as u64;
     s.clamp(1, one_point) as u32
 }
 
@@ -128,6 +130,16 @@ where
     visit_limited(img, e, cap, cap, f)
 }
 
+/// `floor(a / s)` for `s >= 1` (0 for `s <= 0`, which callers never pass).
+#[inline(always)]
+fn floor_div(a: i32, s: i32) -> i32 {
+    if s > 0 {
+        a.div_euclid(s)
+    } else {
+        0
+    }
+}
+
 /// [`visit`] with the step chosen for `cap` but the count stopped at `limit` instead
 /// (tests pass `u32::MAX` to check that the step alone keeps the count within `cap`).
 #[inline(always)]
@@ -142,46 +154,49 @@ where
     P: PixelFormat,
     F: FnMut(&Row<'a, P>, usize, u32),
 {
-    let s = sampling_step(e, cap) as i64;
+    let s = sampling_step(e, cap);
     if s == 0 {
         return 0;
     }
     let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
-    let (hx, hy) = (e.hx.to_bits() as i64, e.hy.to_bits() as i64); // 2^15..2^31
-    let (xc, yc) = (e.cx.round_int() as i64, e.cy.round_int() as i64);
+    let (hx, hy) = (e.hx.to_bits() as u32, e.hy.to_bits() as u32); // 2^15..2^31
+    let (xc, yc) = (e.cx.round_int(), e.cy.round_int()); // px, |.| <= 32768
+    let si = s as i32; // 1..=65536
 
     // Rows inside the ellipse and the frame, as lattice indices j (y = yc + j s).
-    let y_lo = (-((hy - cy) >> 16)).max(0); // ceil(cy - hy)
-    let y_hi = ((cy + hy) >> 16).min(img.height() as i64 - 1); // floor(cy + hy)
+    let y_lo = (-((hy as i64 - cy) >> 16)).max(0) as i32; // ceil(cy - hy)
+    let y_hi = ((cy + hy as i64) >> 16).min(img.height() as i64 - 1) as i32; // floor(cy + hy)
     if y_lo > y_hi {
         return 0;
     }
-    let j_lo = -(yc - y_lo).div_euclid(s); // ceil((y_lo - yc) / s)
-    let j_hi = (y_hi - yc).div_euclid(s);
+    let j_lo = -floor_div(yc - y_lo, si); // ceil((y_lo - yc) / s)
+    let j_hi = floor_div(y_hi - yc, si);
     // Columns inside the frame, as lattice indices k (x = xc + k s).
-    let k_frame_lo = -xc.div_euclid(s);
-    let k_frame_hi = (img.width() as i64 - 1 - xc).div_euclid(s);
+    let k_frame_lo = -floor_div(xc, si) as i64;
+    let k_frame_hi = floor_div(img.width() as i32 - 1 - xc, si) as i64;
     if k_frame_lo > k_frame_hi {
         return 0;
     }
 
-    // Normalised coordinates (x - cx) / hx and (y - cy) / hy in Q2.30 at lattice index 0,
-    // and their lattice increments (|anchor offset| <= 0.5 px <= half-axis, s <= 2^16).
-    let tx0 = (((xc << 16) - cx) << 30) / hx;
-    let ty0 = (((yc << 16) - cy) << 30) / hy;
-    let dtx = (s << 46) / hx;
-    let dty = (s << 46) / hy;
+    // Reciprocal half-axes, 2^62 / h (2^31..2^47): (v - c) * inv >> 32 is (v - c) / h in
+    // Q2.30 for |v - c| <= h, with a relative error below 2^-31.
+    let inv_hx = (1u64 << 62).checked_div(hx as u64).unwrap_or(0) as i64;
+    let inv_hy = (1u64 << 62).checked_div(hy as u64).unwrap_or(0) as i64;
+    // The lattice step in normalised x, Q2.30; past one point per row it is unused, so
+    // clamping it keeps the inner loop in `i32`.
+    let dt = ((s as u64 * inv_hx as u64) >> 16).min(i32::MAX as u64) as i32;
     // The half-axis and the centre's offset from the anchor in lattice units, Q16.
-    let ax = hx / s;
-    let off = (cx - (xc << 16)) / s;
-    // Past one point per row the increment is unused: clamping it keeps `i32` arithmetic.
-    let dt = dtx.min(i32::MAX as i64) as i32;
+    let ax = hx.checked_div(s).unwrap_or(0) as i64;
+    let off = ((cx - ((xc as i64) << 16)) as i32)
+        .checked_div(si)
+        .unwrap_or(0) as i64;
 
     let mut visited = 0u32;
     let mut j = j_lo;
     while j <= j_hi && visited < limit {
-        let ty = ty0 + j * dty;
-        let ry = ((ty * ty) >> 30).min(ONE_Q30); // (y - cy)^2 / hy^2, Q2.30
+        let y = yc + j * si; // y_lo..=y_hi, so |y - cy| <= hy
+        let ty = ((((y as i64) << 16) - cy) * inv_hy) >> 32; // (y - cy) / hy, Q2.30
+        let ry = ((ty * ty) >> 30).min(ONE_Q30); // ty^2, Q2.30
         let root = ((ONE_Q30 - ry) as u32).isqrt() as i64; // sqrt(1 - ty^2), Q0.15
         let half_chord = (ax * root) >> 15; // lattice units, Q16
                                             // Lattice points strictly inside the chord (points on the boundary weigh 0).
@@ -190,9 +205,10 @@ where
         if k_lo <= k_hi {
             let count = ((k_hi - k_lo + 1) as u32).min(limit - visited);
             visited += count;
-            let row = img.row((yc + j * s) as usize);
-            let mut t = (tx0 + k_lo * dtx).clamp(-ONE_Q30, ONE_Q30) as i32;
-            let mut x = (xc + k_lo * s) as usize;
+            let row = img.row(y as usize);
+            let x0 = xc as i64 + k_lo * s as i64; // 0..width, inside the chord
+            let mut t = ((((x0 << 16) - cx) * inv_hx) >> 32).clamp(-ONE_Q30, ONE_Q30) as i32;
+            let mut x = x0 as usize;
             let ry = ry as u32;
             for _ in 0..count {
                 // |t| <= 1 (Q2.30) inside the chord, so t15^2 + ry <= 2^31 + 2^17.
