@@ -1023,6 +1023,54 @@ mod tests {
         assert!((f.mean[2].to_f64() + 1000.0).abs() < 0.1, "{:?}", f.mean);
     }
 
+    /// Arbitrary bit patterns everywhere (covariances not PSD, negative noise, any dt):
+    /// no overflow panic (tests run with overflow checks) in either path.
+    #[test]
+    fn arbitrary_inputs_never_panic() {
+        let mut rng = Rng::new(77);
+        let mut any = || {
+            let w = rng.next_u32() as i32;
+            match w & 3 {
+                0 => Q16::from_bits(w),
+                1 => Q16::MAX,
+                2 => Q16::MIN,
+                _ => Q16::from_bits(w >> 12),
+            }
+        };
+        for _ in 0..20_000 {
+            let mut sym4 = || Sym4 {
+                a00: any(),
+                a01: any(),
+                a02: any(),
+                a03: any(),
+                a11: any(),
+                a12: any(),
+                a13: any(),
+                a22: any(),
+                a23: any(),
+                a33: any(),
+            };
+            let (cov, q4) = (sym4(), sym4());
+            let mut sym2 = || Sym2 {
+                a00: any(),
+                a01: any(),
+                a11: any(),
+            };
+            let (r2, by, bx) = (sym2(), sym2(), sym2());
+            let mut f = Filter::new([any(), any(), any(), any()], cov);
+            let dt = any();
+            let y = [any(), any()];
+            f.predict(dt, &Noise { q: q4, r: r2 });
+            let _ = f.update(y, &r2);
+            let mut b = Block { cov: by };
+            b.predict(dt, &bx);
+            let g = b.gain(any());
+            let (mut p, mut v) = (any(), any());
+            g.update_mean(&mut p, &mut v, any());
+            b.update(any());
+        }
+    }
+
     /// dt = 0: A = I, so predict only adds Q and leaves the mean.
     #[test]
     fn dt_zero() {

@@ -3,6 +3,7 @@
 
 pub mod draw;
 pub mod metrics;
+pub mod paper;
 pub mod progress;
 pub mod run;
 pub mod scene;
