@@ -53,6 +53,9 @@ pub struct Config {
     pub pixels_per_window: u32,
     /// Standard deviation of the per-frame position noise, px, Q16.16, in `(0, 256]`.
     pub position_noise: Q16,
+    /// Extra position noise per px of mean half-axis, Q16.16 in `[0, 4]`: the standard
+    /// deviation is `position_noise + relative_position_noise * (Hx + Hy) / 2`.
+    pub relative_position_noise: Q16,
     /// Standard deviation of the per-frame velocity change, px/frame, Q16.16, in `[0, 64]`.
     pub velocity_noise: Q16,
     /// Share of the velocity kept each frame, Q16.16 in `[0, 1]` (1: constant velocity).
@@ -137,7 +140,8 @@ pub(crate) struct Derived {
 }
 
 impl Config {
-    /// Defaults for `variant`: 2 px position noise, 0.5 px/frame velocity noise, 300
+    /// Defaults for `variant`: position noise 2 px plus 0.2 px per px of half-axis, velocity
+    /// noise 1 px/frame, 300
     /// pixels per window, colour sigma 0.2, systematic resampling below half the particles.
     pub fn new(variant: Variant) -> Self {
         Self {
@@ -145,7 +149,8 @@ impl Config {
             seed: 1,
             pixels_per_window: 300,
             position_noise: Q16::from_int(2),
-            velocity_noise: Q16::HALF,
+            relative_position_noise: Q16::from_f64(0.2),
+            velocity_noise: Q16::ONE,
             velocity_keep: Q16::from_f64(0.9),
             scale_noise: match variant {
                 Variant::ColourPf => Q16::from_f64(0.03),
@@ -175,7 +180,7 @@ impl Config {
     /// Checks every field; the error names the first one out of range.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let unit = Q16::ZERO..=Q16::ONE;
-        let checks: [(bool, &'static str); 22] = [
+        let checks: [(bool, &'static str); 23] = [
             (
                 (16..=65536).contains(&self.pixels_per_window),
                 "pixels_per_window",
@@ -183,6 +188,10 @@ impl Config {
             (
                 self.position_noise > Q16::ZERO && self.position_noise <= Q16::from_int(256),
                 "position_noise",
+            ),
+            (
+                (Q16::ZERO..=Q16::from_int(4)).contains(&self.relative_position_noise),
+                "relative_position_noise",
             ),
             (
                 (Q16::ZERO..=Q16::from_int(64)).contains(&self.velocity_noise),

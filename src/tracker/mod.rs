@@ -298,6 +298,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         }
         let motion = Motion {
             position_noise: self.config.position_noise,
+            relative_noise: self.config.relative_position_noise,
             velocity_noise: self.config.velocity_noise,
             velocity_keep: self.config.velocity_keep,
         };

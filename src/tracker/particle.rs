@@ -78,19 +78,23 @@ impl Bounds {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Motion {
     pub position_noise: Q16,
+    pub relative_noise: Q16,
     pub velocity_noise: Q16,
     pub velocity_keep: Q16,
 }
 
 impl Motion {
     /// Constant-velocity drift with Gaussian noise:
-    /// `v <- keep v + sigma_v n`, `x <- x + v + sigma_p n`, centre clamped to the frame.
+    /// `v <- keep v + sigma_v n`, `x <- x + v + sigma n`, centre clamped to the frame, where
+    /// `sigma = position_noise + relative_noise * (Hx + Hy) / 2` grows with the target.
     #[inline]
     pub(crate) fn drift(&self, p: &mut Particle, rng: &mut Rng, bounds: &Bounds) {
         p.vx = self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise);
         p.vy = self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise);
-        p.x = (p.x + p.vx + rng.gaussian(self.position_noise)).clamp(Q16::ZERO, bounds.max_x);
-        p.y = (p.y + p.vy + rng.gaussian(self.position_noise)).clamp(Q16::ZERO, bounds.max_y);
+        let size = Q16::from_bits((p.leaf[0].to_bits() >> 1) + (p.leaf[2].to_bits() >> 1));
+        let sigma = self.position_noise + self.relative_noise * size;
+        p.x = (p.x + p.vx + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_x);
+        p.y = (p.y + p.vy + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_y);
     }
 }
 
@@ -194,6 +198,7 @@ mod tests {
         let b = Bounds::for_frame(10, 8, Q16::ONE);
         let m = Motion {
             position_noise: Q16::from_int(50),
+            relative_noise: Q16::ONE,
             velocity_noise: Q16::from_int(50),
             velocity_keep: Q16::ONE,
         };
