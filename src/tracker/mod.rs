@@ -111,8 +111,10 @@ pub struct Estimate {
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
 /// the binning `Bn` (`Bn::BINS == B`, checked at compile time).
 ///
-/// Its RAM is its `size_of`, all inline: about `N * 40 + B * 14` bytes plus a fixed part
-/// of about 1 KiB (see `host-tests/tests/tracker_size.rs`).
+/// Its RAM is its `size_of`, all inline: 40 bytes per particle (state, weight, resampling
+/// scratch), about 14 bytes per bin (model, histogram, touched-bin list) and under 1 KiB
+/// more. With 512 bins: 9,968 bytes at N = 50, 11,968 at N = 100, 15,968 at N = 200 on
+/// x86-64 (pinned by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     config: Config,
