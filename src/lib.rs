@@ -1,4 +1,4 @@
-//! rbtrack: a `no_std`, allocation-free, fixed-point visual object tracker core.
+#![doc = include_str!("../README.md")]
 //!
 //! # Layers, from the bottom
 //! - [`fixed`]: the Q16.16 number type; saturating arithmetic and square root.

@@ -153,6 +153,7 @@ mod tests {
         let var = sq / n as f64 - mean * mean;
         let p2 = beyond2 as f64 / n as f64;
         let p3 = beyond3 as f64 / n as f64;
+        std::println!("normal, 1e6 draws: mean {mean:.5} var {var:.5} >2s {p2:.6} >3s {p3:.6}");
         assert!(mean.abs() < 0.01, "mean {mean}");
         assert!((var - 1.0).abs() < 0.02, "var {var}");
         assert!((p2 / 0.045_500 - 1.0).abs() < 0.10, "beyond 2 sigma {p2}");

@@ -102,7 +102,12 @@ pub fn ellipse_of(b: &BBox) -> Ellipse {
 /// The box of an estimate.
 pub fn bbox_of(e: &Estimate) -> BBox {
     let el = e.ellipse;
-    BBox::from_ellipse(el.cx.to_f64(), el.cy.to_f64(), el.hx.to_f64(), el.hy.to_f64())
+    BBox::from_ellipse(
+        el.cx.to_f64(),
+        el.cy.to_f64(),
+        el.hx.to_f64(),
+        el.hy.to_f64(),
+    )
 }
 
 struct Runner<const N: usize> {
@@ -143,7 +148,11 @@ impl<const N: usize> Runner<N> {
             }
             Format::Rgb565 => {
                 rgb565_into(rgb, &mut scratch);
-                Tracker::new(options.config, &view::<Rgb565Le>(&scratch, width, height)?, init)
+                Tracker::new(
+                    options.config,
+                    &view::<Rgb565Le>(&scratch, width, height)?,
+                    init,
+                )
             }
         }
         .map_err(RunError::Config)?;

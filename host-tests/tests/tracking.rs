@@ -58,8 +58,14 @@ fn occlusion_is_reported_as_lost() {
         let scene = Scene::new(SceneConfig::new(SceneVariant::Occlusion, 1)).expect("scene");
         let (w, h) = (scene.width() as usize, scene.height() as usize);
         let first = scene.render(0).expect("frame");
-        let mut runner = start(&options(variant, 1, &scene), &first, w, h, &scene.boxes()[0])
-            .expect("tracker starts");
+        let mut runner = start(
+            &options(variant, 1, &scene),
+            &first,
+            w,
+            h,
+            &scene.boxes()[0],
+        )
+        .expect("tracker starts");
         let (mut hidden, mut lost_while_hidden, mut lost_while_visible) = (0, 0, 0);
         for i in 1..scene.len() {
             let frame = scene.render(i).expect("frame");
@@ -88,7 +94,13 @@ fn rbpf_on_the_real_sequences() {
         println!("SKIPPED: no ../shared/data folder with the real sequences");
         return;
     };
-    let names = ["Crossing", "KiteSurf", "PETS09S2L1_id11", "ball1_vot15", "boat1_uav"];
+    let names = [
+        "Crossing",
+        "KiteSurf",
+        "PETS09S2L1_id11",
+        "ball1_vot15",
+        "boat1_uav",
+    ];
     let mut mean_auc = 0.0;
     for name in names {
         let seq = Sequence::open(data.join(name)).expect("sequence opens");
@@ -103,7 +115,10 @@ fn rbpf_on_the_real_sequences() {
         )
         .expect("tracker starts");
         let eval = Evaluation::new(&seq.groundtruth, &boxes);
-        println!("{name:16} AUC {:.3} prec@20 {:.3}", eval.success_auc, eval.precision_20);
+        println!(
+            "{name:16} AUC {:.3} prec@20 {:.3}",
+            eval.success_auc, eval.precision_20
+        );
         mean_auc += eval.success_auc / names.len() as f64;
     }
     println!("mean AUC {mean_auc:.3}");

@@ -293,11 +293,41 @@ mod tests {
     fn each_error_names_its_field() {
         let base = Config::new(Variant::Rbpf);
         let cases: [(Config, &str); 8] = [
-            (Config { pixels_per_window: 3, ..base }, "pixels_per_window"),
-            (Config { position_noise: Q16::ZERO, ..base }, "position_noise"),
-            (Config { colour_sigma: Q16::ZERO, ..base }, "colour_sigma"),
-            (Config { gradient_points: 200, ..base }, "gradient_points"),
-            (Config { resample_below: Q16::ZERO, ..base }, "resample_below"),
+            (
+                Config {
+                    pixels_per_window: 3,
+                    ..base
+                },
+                "pixels_per_window",
+            ),
+            (
+                Config {
+                    position_noise: Q16::ZERO,
+                    ..base
+                },
+                "position_noise",
+            ),
+            (
+                Config {
+                    colour_sigma: Q16::ZERO,
+                    ..base
+                },
+                "colour_sigma",
+            ),
+            (
+                Config {
+                    gradient_points: 200,
+                    ..base
+                },
+                "gradient_points",
+            ),
+            (
+                Config {
+                    resample_below: Q16::ZERO,
+                    ..base
+                },
+                "resample_below",
+            ),
             (
                 Config {
                     lost_below: Q16::from_f64(0.9),
@@ -305,7 +335,13 @@ mod tests {
                 },
                 "lost_below",
             ),
-            (Config { kalman_r: Q16::MIN, ..base }, "kalman_r"),
+            (
+                Config {
+                    kalman_r: Q16::MIN,
+                    ..base
+                },
+                "kalman_r",
+            ),
             (
                 Config {
                     cue_mix: CueMix::Average(Q16::from_int(2)),

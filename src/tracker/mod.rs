@@ -217,12 +217,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.model = Model::from_histogram(&self.hist);
         self.particles = [Particle::at(&init); N];
         self.weights = [WEIGHT_TOTAL / N as u32; N];
-        self.leaf_cov = SharedCovariance::new(
-            self.initial_cov,
-            self.initial_cov,
-            *self.leaf_cov.noise(),
-        )
-        .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
+        self.leaf_cov =
+            SharedCovariance::new(self.initial_cov, self.initial_cov, *self.leaf_cov.noise())
+                .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
         self.estimate = Estimate {
             ellipse: init,
             vx: Q16::ZERO,
@@ -337,7 +334,12 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             let y = Q16::from_int(self.rng.below(height) as i32);
             let hy = bounds.half(last.hy + self.config.scale_per_row * (y - last.cy));
             let hx = bounds.half(last.hx * (hy / last.hy));
-            *p = Particle::at(&Ellipse { cx: x, cy: y, hx, hy });
+            *p = Particle::at(&Ellipse {
+                cx: x,
+                cy: y,
+                hx,
+                hy,
+            });
         }
         self.weights = [WEIGHT_TOTAL / N as u32; N];
     }
@@ -467,7 +469,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             }
             Readout::RobustMean(radius) => {
                 let best = self.best_particle();
-                self.weighted_mean(|p| (p.x - best.x).abs() <= radius && (p.y - best.y).abs() <= radius)
+                self.weighted_mean(|p| {
+                    (p.x - best.x).abs() <= radius && (p.y - best.y).abs() <= radius
+                })
             }
         };
         self.pixels_visited = self.pixels_visited.saturating_add(self.hist.fill::<Bn, P>(

@@ -222,7 +222,14 @@ mod tests {
         });
         let mut rng = Rng::new(1);
         // 10 px down with 0.5 px of half-height per px: Hy 20 -> 25, Hx 10 -> 12.5.
-        predict_leaf(&mut p, Q16::from_int(10), Q16::HALF, Q16::ZERO, &mut rng, &b);
+        predict_leaf(
+            &mut p,
+            Q16::from_int(10),
+            Q16::HALF,
+            Q16::ZERO,
+            &mut rng,
+            &b,
+        );
         assert_eq!(p.leaf[0], Q16::from_int(25));
         assert_eq!(p.leaf[2], Q16::from_f64(12.5));
         // Degenerate input stays within bounds.
