@@ -31,10 +31,9 @@
 //!   and `v_t = S u_{t-1}` exactly as in the RBPF (so the two filters differ only in
 //!   Rao-Blackwellisation); weights `N(Z; (x, y), Sz^2 I)`.
 //!
-//! The likelihood `exp(-d^2 / 2)` is a table built once (floats only there, [`ExpTable`]);
-//! per step it is integer: `d^2` in Q16.16, shifted by the smallest `d^2` among the
-//! particles so that the best particle always weighs 1 (no all-zero weight sets from
-//! underflow), then looked up with linear interpolation.
+//! The likelihood `exp(-d^2 / 2)` is the core's table ([`rbtrack::likelihood::exp_neg`]),
+//! integer only: `d^2 / 2` in Q16.16, shifted by the smallest among the particles so that
+//! the best particle always weighs 1 (no all-zero weight sets from underflow).
 //!
 //! # What it shows
 //! With these parameters the RBPF's location error stays near `Sz` while the PF (same
@@ -53,6 +52,7 @@
 
 use rbtrack::fixed::Q16;
 use rbtrack::kalman::{self, predict_mean, BlockNoise, SharedCovariance, Sym2};
+use rbtrack::likelihood::exp_neg;
 use rbtrack::resample::{resample, Scheme};
 use rbtrack::rng::Rng;
 
@@ -135,54 +135,6 @@ impl Default for Params {
     }
 }
 
-/// `exp(-t)` for `t >= 0` in Q16.16, as a table with linear interpolation: entries every
-/// `2^-5` up to `t = 32`, values scaled by `2^30` (`u32`); beyond 32 the weight is 0.
-/// Largest error against `exp` (relative to `exp(0)`): below `1.3e-4` (interpolation,
-/// `h^2 / 8` with `h = 1/32`), tested below.
-#[derive(Debug, Clone)]
-pub struct ExpTable {
-    table: Vec<u32>,
-}
-
-impl ExpTable {
-    const STEP_LOG2: u32 = 5;
-    const LEN: usize = 32 << Self::STEP_LOG2;
-    /// Weight of `t = 0`.
-    pub const ONE: u32 = 1 << 30;
-
-    /// Builds the table (floats here only).
-    pub fn new() -> Self {
-        let table = (0..=Self::LEN)
-            .map(|i| {
-                let t = i as f64 / (1u32 << Self::STEP_LOG2) as f64;
-                ((-t).exp() * Self::ONE as f64).round() as u32
-            })
-            .collect();
-        Self { table }
-    }
-
-    /// `exp(-t) 2^30` for `t` in Q16.16 (negative `t` counts as 0), integer only.
-    pub fn weight(&self, t: Q16) -> u32 {
-        let bits = t.to_bits().max(0) as u32;
-        let shift = 16 - Self::STEP_LOG2;
-        let i = (bits >> shift) as usize;
-        let frac = (bits & ((1 << shift) - 1)) as u64;
-        match (self.table.get(i), self.table.get(i + 1)) {
-            (Some(&lo), Some(&hi)) => {
-                let (lo, hi) = (lo as u64, hi as u64);
-                (lo - (((lo - hi) * frac) >> shift)) as u32
-            }
-            _ => 0,
-        }
-    }
-}
-
-impl Default for ExpTable {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 /// `e^2 / (2 s)` in Q16.16, saturating, for `e` and `s` (variance, `> 0`) in Q16.16.
 fn half_mahalanobis(e: Q16, s: Q16) -> i64 {
     let e = e.to_bits() as i64;
@@ -190,12 +142,12 @@ fn half_mahalanobis(e: Q16, s: Q16) -> i64 {
     (e * e / s) >> 1
 }
 
-/// Turns the per-particle `d^2 / 2` values (Q16.16 raw, in `weights`) into likelihood
-/// weights `exp(-(d^2/2 - min))`, in place.
-fn weigh(weights: &mut [u32], half_d2: &[i64], table: &ExpTable) {
+/// Turns the per-particle `d^2 / 2` values (Q16.16 raw) into likelihood weights
+/// `65535 exp(-(d^2/2 - min))` by the core's table ([`exp_neg`]), in place.
+fn weigh(weights: &mut [u32], half_d2: &[i64]) {
     let min = half_d2.iter().copied().min().unwrap_or(0);
     for (w, &h) in weights.iter_mut().zip(half_d2) {
-        *w = table.weight(Q16::saturate(h - min));
+        *w = exp_neg(Q16::saturate(h - min));
     }
 }
 
@@ -381,7 +333,6 @@ pub fn run_rbpf(
 ) -> RunErrors {
     let m = Model::new(params);
     let s = Q16::from_f64(s_model);
-    let table = ExpTable::new();
     let mut rng = Rng::new(filter_seed(seed, 0x5262_7066));
     let var_z = m.sz * m.sz;
     let noise = BlockNoise {
@@ -431,7 +382,7 @@ pub fn run_rbpf(
             p.leaf[3] = p.u; // x moves by u_t next step
         }
         shared.update_cov();
-        weigh(&mut weights, &half_d2, &table);
+        weigh(&mut weights, &half_d2);
         let est = [
             weighted_mean(&weights, ps.iter().map(|p| p.leaf[2])),
             weighted_mean(&weights, ps.iter().map(|p| p.u)),
@@ -466,7 +417,6 @@ pub fn run_pf(
 ) -> RunErrors {
     let m = Model::new(params);
     let s = Q16::from_f64(s_model);
-    let table = ExpTable::new();
     let mut rng = Rng::new(filter_seed(seed, 0x5066));
     let var_z = m.sz * m.sz;
     // Prior: positions sampled from N(Z_0, Sz^2), u ~ N(u_0, U0_SD^2).
@@ -500,7 +450,7 @@ pub fn run_pf(
             p.u = u_prev + rng.gaussian(m.sd(p.regime));
             *h = half_mahalanobis(z[0] - p.x, var_z) + half_mahalanobis(z[1] - p.y, var_z);
         }
-        weigh(&mut weights, &half_d2, &table);
+        weigh(&mut weights, &half_d2);
         let est = [
             weighted_mean(&weights, ps.iter().map(|p| p.x)),
             weighted_mean(&weights, ps.iter().map(|p| p.u)),
@@ -1072,26 +1022,6 @@ pub fn write_plots(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn exp_table_accuracy() {
-        let table = ExpTable::new();
-        let mut max_err = 0f64;
-        for bits in (0..(33 << 16)).step_by(97) {
-            let t = Q16::from_bits(bits);
-            let got = table.weight(t) as f64 / ExpTable::ONE as f64;
-            let want = if t.to_f64() >= 32.0 {
-                0.0
-            } else {
-                (-t.to_f64()).exp()
-            };
-            max_err = max_err.max((got - want).abs());
-        }
-        assert!(max_err < 1.3e-4, "{max_err}");
-        assert_eq!(table.weight(Q16::ZERO), ExpTable::ONE);
-        assert_eq!(table.weight(Q16::from_int(-3)), ExpTable::ONE);
-        assert_eq!(table.weight(Q16::MAX), 0);
-    }
 
     #[test]
     fn simulation_is_deterministic_and_in_range() {
