@@ -1,6 +1,7 @@
 //! Host harness for rbtrack: f64 reference implementations, synthetic scenes, metrics and
 //! the `rbtrack` command-line program.
 
+pub mod cli;
 pub mod draw;
 pub mod metrics;
 pub mod paper;

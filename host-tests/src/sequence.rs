@@ -156,6 +156,15 @@ impl GtOrigin {
             Self::ZeroBased => b,
         }
     }
+
+    /// Converts a 0-based box to this origin, for writing a file in the same convention:
+    /// inverse of [`GtOrigin::to_zero_based`].
+    pub fn from_zero_based(self, b: BBox) -> BBox {
+        match self {
+            Self::OneBased => b.to_one_based(),
+            Self::ZeroBased => b,
+        }
+    }
 }
 
 /// One decoded frame: RGB888, `width * height * 3` bytes, row-major, stride `width * 3`.
@@ -225,7 +234,24 @@ impl Sequence {
     /// Opens `dir` with an explicit ground-truth origin. Lists the frames, reads the first
     /// frame's size and parses the ground truth; decodes no pixels.
     pub fn open_with(dir: impl AsRef<Path>, origin: GtOrigin) -> Result<Self, SequenceError> {
-        let dir = dir.as_ref().to_path_buf();
+        Self::open_inner(dir.as_ref(), origin, true)
+    }
+
+    /// As [`Sequence::open`], but a missing ground-truth file is not an error: the
+    /// sequence then has no ground truth (`groundtruth` empty). A ground-truth file that
+    /// exists but cannot be read or parsed is still an error.
+    pub fn open_optional_groundtruth(dir: impl AsRef<Path>) -> Result<Self, SequenceError> {
+        let dir = dir.as_ref();
+        Self::open_inner(dir, GtOrigin::for_sequence(&folder_name(dir)), false)
+    }
+
+    /// True when the sequence has ground truth for at least one frame.
+    pub fn has_groundtruth(&self) -> bool {
+        !self.groundtruth.is_empty()
+    }
+
+    fn open_inner(dir: &Path, origin: GtOrigin, require_gt: bool) -> Result<Self, SequenceError> {
+        let dir = dir.to_path_buf();
         if !dir.is_dir() {
             return Err(SequenceError::MissingFolder(dir));
         }
@@ -236,7 +262,12 @@ impl Sequence {
         let frame_paths = list_frames(&img)?;
         let first = &frame_paths[0];
         let (width, height) = image::image_dimensions(first).map_err(|e| image_error(first, e))?;
-        let groundtruth = read_groundtruth(dir.join(GROUNDTRUTH_FILE), origin)?;
+        let gt_path = dir.join(GROUNDTRUTH_FILE);
+        let groundtruth = if require_gt || gt_path.exists() {
+            read_groundtruth(gt_path, origin)?
+        } else {
+            Vec::new()
+        };
         Ok(Self {
             name: folder_name(&dir),
             dir,

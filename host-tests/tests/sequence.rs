@@ -292,3 +292,32 @@ fn shared_real_sequences() {
         assert!(first.x + first.w <= size.0 as f64 + 1.0, "{name}");
     }
 }
+
+#[test]
+fn optional_groundtruth_and_origin_round_trip() {
+    let dir = temp_dir("optgt");
+    write_png(&dir.join("img/0001.png"), &frame_pixels(0), W, H);
+    let seq = Sequence::open_optional_groundtruth(&dir).unwrap();
+    assert!(!seq.has_groundtruth());
+    assert_eq!(seq.init_box(), None);
+    assert_eq!(seq.len(), 1);
+    // A ground-truth file that exists must still parse.
+    std::fs::write(dir.join(GROUNDTRUTH_FILE), "1,2,3\n").unwrap();
+    assert!(matches!(
+        Sequence::open_optional_groundtruth(&dir),
+        Err(SequenceError::GroundTruth { line: 1, .. })
+    ));
+    std::fs::write(dir.join(GROUNDTRUTH_FILE), "2,3,4,5\n").unwrap();
+    let seq = Sequence::open_optional_groundtruth(&dir).unwrap();
+    assert!(seq.has_groundtruth());
+    assert_eq!(seq.init_box(), Some(BBox::new(1.0, 2.0, 4.0, 5.0)));
+    let b = BBox::new(1.5, 2.0, 3.0, 4.0);
+    for origin in [GtOrigin::OneBased, GtOrigin::ZeroBased] {
+        assert_eq!(origin.to_zero_based(origin.from_zero_based(b)), b);
+    }
+    assert_eq!(
+        GtOrigin::OneBased.from_zero_based(b),
+        BBox::new(2.5, 3.0, 3.0, 4.0)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
