@@ -88,7 +88,8 @@ pub struct Config {
     pub uncertain_below: Q16,
     /// Status `Lost` below this confidence, Q16.16 in `[0, uncertain_below]`.
     pub lost_below: Q16,
-    /// Share of particles re-drawn uniformly over the frame each frame while lost,
+    /// Share of particles re-drawn uniformly over the frame each frame while the status is
+    /// not `Tracking`,
     /// Q16.16 in `[0, 1]`.
     pub redetect_share: Q16,
     /// Half-height change per px of downward motion (alpha / beta of the RBPF paper),

@@ -9,8 +9,8 @@
 //! 1. **Propagate**: constant-velocity drift with Gaussian noise; the size is scaled by a
 //!    random factor (colour PF) or predicted by eq. 7 of the RBPF paper, the half-height
 //!    following the vertical motion by `scale_per_row` and the aspect ratio kept (RBPF),
-//!    with one shared Kalman covariance prediction. While the target is lost, a share of
-//!    the particles is first re-drawn uniformly over the frame.
+//!    with one shared Kalman covariance prediction. While the status is not `Tracking`, a
+//!    share of the particles is first re-drawn uniformly over the frame.
 //! 2. **Weigh**: every particle's window gives a histogram, its Bhattacharyya coefficient
 //!    against the model gives the colour cost, the boundary gradient the gradient cost
 //!    (RBPF); `exp(-cost)` by table multiplies the particle's weight. Weights are then
@@ -85,9 +85,10 @@ use particle::{predict_leaf, replicate, scale_randomly, Bounds, Motion};
 pub enum Status {
     /// Confidence at or above `uncertain_below`.
     Tracking,
-    /// Confidence in `[lost_below, uncertain_below)`.
+    /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, the tracker searches
+    /// the whole frame with part of its particles.
     Uncertain,
-    /// Confidence below `lost_below`: the tracker is searching the frame.
+    /// Confidence below `lost_below`.
     Lost,
 }
 
@@ -292,7 +293,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     }
 
     fn propagate(&mut self, bounds: &Bounds) {
-        if self.estimate.status == Status::Lost {
+        if self.estimate.status != Status::Tracking {
             self.redetect(bounds);
         }
         let motion = Motion {
