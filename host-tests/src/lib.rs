@@ -5,6 +5,7 @@ pub mod draw;
 pub mod metrics;
 pub mod paper;
 pub mod progress;
+pub mod reference;
 pub mod run;
 pub mod scene;
 pub mod sequence;
