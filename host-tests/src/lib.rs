@@ -6,6 +6,7 @@ pub mod draw;
 pub mod metrics;
 pub mod paper;
 pub mod progress;
+pub mod reference;
 pub mod run;
 pub mod scene;
 pub mod sequence;

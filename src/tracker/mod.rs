@@ -128,6 +128,8 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     weights: [u32; N],
     indices: [u16; N],
     counts: [u16; N],
+    resampled: bool,
+    scale_factor: Option<Q16>,
     model: Model<B>,
     hist: Histogram<B>,
     estimate: Estimate,
@@ -176,6 +178,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             weights: [0; N],
             indices: [0; N],
             counts: [0; N],
+            resampled: false,
+            scale_factor: None,
             model: Model::from_histogram(&Histogram::new()),
             hist: Histogram::new(),
             estimate: Estimate {
@@ -247,6 +251,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let mut cycles = StageCycles::default();
         let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
         self.pixels_visited = 0;
+        self.scale_factor = None;
 
         self.propagate(&bounds);
         cycles.propagate = watch.lap();
@@ -280,6 +285,20 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// The particles, after the last step's resampling.
     pub fn particles(&self) -> &[Particle; N] {
         &self.particles
+    }
+
+    /// The particle indices the last step's resampling drew (`rbtrack::resample::resample`
+    /// order, before the in-place copy), or `None` if the last step did not resample.
+    /// For checking the filter against a reference that follows the same ancestry.
+    pub fn last_resampling(&self) -> Option<&[u16; N]> {
+        self.resampled.then_some(&self.indices)
+    }
+
+    /// The factor of the scale the last step's size measurement chose (RBPF:
+    /// `1 + k scale_step`, `k` in `-2..=2`), or `None` when nothing was measured (colour PF,
+    /// or every scale had likelihood 0).
+    pub fn last_scale_factor(&self) -> Option<Q16> {
+        self.scale_factor
     }
 
     /// Pixels read into histograms in the last step (`<= (N + 6) * pixels_per_window`).
@@ -405,6 +424,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         if best.0 == 0 {
             return; // nothing measured: keep the prediction
         }
+        self.scale_factor = Some(best.1);
         let y = [
             bounds.half(mean.ellipse.hy * best.1),
             bounds.half(mean.ellipse.hx * best.1),
@@ -500,12 +520,14 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     fn resample_if_degenerate(&mut self) {
         let threshold = self.config.resample_below.mul_int(N as i32);
+        self.resampled = false;
         if effective_sample_size(&self.weights) >= threshold {
             return;
         }
         let scheme = self.config.resampling;
         if resample(scheme, &mut self.weights, &mut self.rng, &mut self.indices).is_ok() {
             replicate(&mut self.particles, &self.indices, &mut self.counts);
+            self.resampled = true;
         }
         self.weights = [WEIGHT_TOTAL / N as u32; N];
     }
