@@ -28,7 +28,7 @@
 //! - the shared Kalman covariance (`P^- = A P A^T + Q`, `K = P H^T / S`, `P -= K H P`) and
 //!   the leaf mean update; the five-scale size measurement;
 //! - read-out (mean, best, robust mean), confidence, status, model adaptation
-//!   `q <- (1 - a) q + a p`, and redetection while lost.
+//!   `q <- (1 - a) q + a p`, and redetection while not `Tracking`.
 //!
 //! # Resampling
 //! Systematic, stratified and multinomial resampling are reimplemented in f64 on the f64
@@ -455,7 +455,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
     // --- 1. Propagate ------------------------------------------------------------------
 
     fn propagate(&mut self, bounds: &Bounds) {
-        if self.estimate.status == Status::Lost {
+        if self.estimate.status != Status::Tracking {
             self.redetect(bounds);
         }
         for i in 0..self.particles.len() {
