@@ -198,6 +198,9 @@ pub struct Coupling {
     pub scales: u32,
 }
 
+/// Smallest half-height divided by in the aspect-ratio step (the core's one raw unit).
+const EPS_HALF: f64 = 1.0 / 65536.0;
+
 /// Frame limits: largest centre column and row, half-axis range, px.
 #[derive(Clone, Copy, Debug)]
 struct Bounds {
@@ -218,8 +221,17 @@ impl Bounds {
         }
     }
 
-    fn half(&self, h: f64) -> f64 {
-        h.clamp(self.min_half, self.max_half)
+    /// `(Hy, Hx)` into range keeping their ratio (the core's `Bounds::halves`).
+    fn halves(&self, hy: f64, hx: f64) -> (f64, f64) {
+        let small = hy.min(hx);
+        let (hy, hx) = if small <= 0.0 {
+            (hy.max(self.min_half), hx.max(self.min_half))
+        } else if small < self.min_half {
+            (hy * self.min_half / small, hx * self.min_half / small)
+        } else {
+            (hy, hx)
+        };
+        (hy.min(self.max_half), hx.min(self.max_half))
     }
 }
 
@@ -405,9 +417,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
                 }
                 None => own,
             };
-            if let Some(factor) = factor {
-                self.update_sizes(factor, &bounds);
-            }
+            self.update_sizes(factor, &bounds);
         }
         self.estimate = self.read_out(frame);
     }
@@ -455,7 +465,8 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
     // --- 1. Propagate ------------------------------------------------------------------
 
     fn propagate(&mut self, bounds: &Bounds) {
-        if self.estimate.status != Status::Tracking {
+        let searching = self.estimate.status != Status::Tracking;
+        if searching {
             self.redetect(bounds);
         }
         for i in 0..self.particles.len() {
@@ -463,10 +474,13 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             let y_before = p.y;
             self.drift(&mut p, bounds);
             match self.config.variant {
-                Variant::ColourPf => self.scale_randomly(&mut p, bounds),
+                Variant::ColourPf => self.scale_randomly(&mut p, searching, bounds),
                 Variant::Rbpf => {
+                    if searching {
+                        (p.leaf[1], p.leaf[3]) = (0.0, 0.0);
+                    }
                     let dy = p.y - y_before;
-                    self.predict_leaf(&mut p, dy, bounds)
+                    self.predict_leaf(&mut p, dy, searching, bounds)
                 }
             }
             self.particles[i] = p;
@@ -493,18 +507,27 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         p.y = (p.y + p.vy + self.gaussian(sigma)).clamp(0.0, bounds.max_y);
     }
 
-    fn scale_randomly(&mut self, p: &mut RefParticle, bounds: &Bounds) {
-        let factor = 1.0 + self.gaussian(self.config.scale_noise.to_f64());
-        p.leaf[0] = bounds.half(p.leaf[0] * factor);
-        p.leaf[2] = bounds.half(p.leaf[2] * factor);
+    fn scale_randomly(&mut self, p: &mut RefParticle, searching: bool, bounds: &Bounds) {
+        let sigma = if searching {
+            0.0
+        } else {
+            self.config.scale_noise.to_f64()
+        };
+        let factor = 1.0 + self.gaussian(sigma);
+        (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0] * factor, p.leaf[2] * factor);
     }
 
-    /// Eq. 7: the half-height follows the vertical motion, the aspect ratio is kept.
-    fn predict_leaf(&mut self, p: &mut RefParticle, dy: f64, bounds: &Bounds) {
+    /// Eq. 7: the half-height follows the vertical motion, the aspect ratio is kept; no
+    /// rate noise while searching.
+    fn predict_leaf(&mut self, p: &mut RefParticle, dy: f64, searching: bool, bounds: &Bounds) {
         let [hy, dhy, hx, dhx] = p.leaf;
-        let hy_pred = bounds.half(hy + dhy + self.config.scale_per_row.to_f64() * dy);
-        let hx_pred = bounds.half(hx * hy_pred / hy);
-        let sigma = self.config.scale_noise.to_f64();
+        let hy_raw = hy + dhy + self.config.scale_per_row.to_f64() * dy;
+        let (hy_pred, hx_pred) = bounds.halves(hy_raw, hx * hy_raw / hy.max(EPS_HALF));
+        let sigma = if searching {
+            0.0
+        } else {
+            self.config.scale_noise.to_f64()
+        };
         let dhy = dhy + self.gaussian(sigma);
         let dhx = dhx + self.gaussian(sigma);
         p.leaf = [hy_pred, dhy, hx_pred, dhx];
@@ -521,8 +544,8 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         for i in 0..count {
             let x = self.rng.below(width) as f64;
             let y = self.rng.below(height) as f64;
-            let hy = bounds.half(last.hy + k * (y - last.cy));
-            let hx = bounds.half(last.hx * (hy / last.hy));
+            let hy = last.hy + k * (y - last.cy);
+            let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
             self.particles[i] = RefParticle::at(&RefEllipse {
                 cx: x,
                 cy: y,
@@ -642,39 +665,41 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
     ) -> Option<f64> {
         let mean = self.weighted_mean(|_| true).ellipse;
         let step = self.config.scale_step.to_f64();
-        let mut best = (0.0, 1.0);
+        let mut best = (0.0, 1.0, 0.0);
         for k in [0.0, -1.0, 1.0, -2.0, 2.0] {
             let factor = 1.0 + step * k;
-            let e = RefEllipse {
-                hx: bounds.half(mean.hx * factor),
-                hy: bounds.half(mean.hy * factor),
-                ..mean
-            };
+            let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+            let e = RefEllipse { hx, hy, ..mean };
             let likelihood = self.likelihood(frame, &e);
             if likelihood > best.0 {
-                best = (likelihood, factor);
+                let rho = self.bhattacharyya(&self.histogram(frame, &e));
+                best = (likelihood, factor, rho);
             }
         }
-        (best.0 > 0.0).then_some(best.1)
+        (best.0 > 0.0 && best.2 >= self.config.lost_below.to_f64()).then_some(best.1)
     }
 
     /// Measures the size as the weighted mean's times `factor` and gives every leaf the
-    /// Kalman update with the shared gain.
-    fn update_sizes(&mut self, factor: f64, bounds: &Bounds) {
-        let mean = self.weighted_mean(|_| true).ellipse;
-        let y = [bounds.half(mean.hy * factor), bounds.half(mean.hx * factor)];
+    /// Kalman update with the shared gain (`None`: no measurement, the means keep their
+    /// prediction); the shared covariance takes its update either way.
+    fn update_sizes(&mut self, factor: Option<f64>, bounds: &Bounds) {
         let r = self.config.kalman_r.to_f64();
         let gains = self.cov.map(|b| b.gain(r));
+        self.cov.iter_mut().for_each(|b| b.update(r));
+        let Some(factor) = factor else {
+            return;
+        };
+        let mean = self.weighted_mean(|_| true).ellipse;
+        let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+        let y = [hy, hx];
         for p in self.particles.iter_mut() {
             for (axis, (gain, y)) in gains.iter().zip(y).enumerate() {
                 let innovation = y - p.leaf[2 * axis];
                 p.leaf[2 * axis] += gain[0] * innovation;
                 p.leaf[2 * axis + 1] += gain[1] * innovation;
             }
-            p.leaf[0] = bounds.half(p.leaf[0]);
-            p.leaf[2] = bounds.half(p.leaf[2]);
+            (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0], p.leaf[2]);
         }
-        self.cov.iter_mut().for_each(|b| b.update(r));
     }
 
     // --- 4. Estimate -------------------------------------------------------------------

@@ -18,7 +18,8 @@
 //! 3. **Update** (RBPF): the size is measured once, around the weighted mean: of five
 //!    scales `1 + {0, -1, 1, -2, 2} scale_step` of the mean predicted ellipse, the one of
 //!    highest likelihood (same cues as the particles) gives `Y = (Hy, Hx)`; every leaf mean
-//!    takes the Kalman update with the shared gain.
+//!    takes the Kalman update with the shared gain, unless that window's Bhattacharyya
+//!    coefficient is below `lost_below` (no target there: the prediction stands).
 //! 4. **Estimate**: weighted mean, best particle or robust mean; its window's Bhattacharyya
 //!    coefficient is the confidence, which sets the [`Status`] and, when high, blends the
 //!    window's histogram into the model.
@@ -114,7 +115,7 @@ pub struct Estimate {
 ///
 /// Its RAM is its `size_of`, all inline: 40 bytes per particle (state, weight, resampling
 /// scratch), about 14 bytes per bin (model, histogram, touched-bin list) and under 1 KiB
-/// more. With 512 bins: 9,968 bytes at N = 50, 11,968 at N = 100, 15,968 at N = 200 on
+/// more. With 512 bins: 9,976 bytes at N = 50, 11,976 at N = 100, 15,976 at N = 200 on
 /// x86-64 (pinned by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
@@ -312,9 +313,17 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     }
 
     fn propagate(&mut self, bounds: &Bounds) {
-        if self.estimate.status != Status::Tracking {
+        let searching = self.estimate.status != Status::Tracking;
+        if searching {
             self.redetect(bounds);
         }
+        // While searching, sizes do not wander: the colour PF's stay put, the RBPF's follow
+        // the ground plane only (rates held at zero), as they were when the target was seen.
+        let size_noise = if searching {
+            Q16::ZERO
+        } else {
+            self.config.scale_noise
+        };
         let motion = Motion {
             position_noise: self.config.position_noise,
             relative_noise: self.config.relative_position_noise,
@@ -326,15 +335,14 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             let y_before = p.y;
             motion.drift(p, rng, bounds);
             match self.config.variant {
-                Variant::ColourPf => scale_randomly(p, self.config.scale_noise, rng, bounds),
-                Variant::Rbpf => predict_leaf(
-                    p,
-                    p.y - y_before,
-                    self.config.scale_per_row,
-                    self.config.scale_noise,
-                    rng,
-                    bounds,
-                ),
+                Variant::ColourPf => scale_randomly(p, size_noise, rng, bounds),
+                Variant::Rbpf => {
+                    if searching {
+                        (p.leaf[1], p.leaf[3]) = (Q16::ZERO, Q16::ZERO);
+                    }
+                    let dy = p.y - y_before;
+                    predict_leaf(p, dy, self.config.scale_per_row, size_noise, rng, bounds)
+                }
             }
         }
         if self.config.variant == Variant::Rbpf {
@@ -352,8 +360,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         for p in self.particles.iter_mut().take(count as usize) {
             let x = Q16::from_int(self.rng.below(width) as i32);
             let y = Q16::from_int(self.rng.below(height) as i32);
-            let hy = bounds.half(last.hy + self.config.scale_per_row * (y - last.cy));
-            let hx = bounds.half(last.hx * (hy / last.hy));
+            let hy = last.hy + self.config.scale_per_row * (y - last.cy);
+            let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
             *p = Particle::at(&Ellipse {
                 cx: x,
                 cy: y,
@@ -405,37 +413,38 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     }
 
     /// Measures the size around the weighted mean and gives every leaf the Kalman update.
+    /// A measurement whose window matches the model less than `lost_below` (the target is
+    /// not there) is dropped: the means keep their prediction, while the shared covariance
+    /// takes its update regardless, so it stays at its data-independent steady state.
     fn update_sizes<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, bounds: &Bounds) {
         let mean = self.weighted_mean(|_| true);
         let step = self.config.scale_step;
-        let mut best = (0u32, Q16::ONE);
+        let mut best = (0u32, Q16::ONE, Q16::ZERO);
         for k in [0, -1, 1, -2, 2] {
             let factor = Q16::ONE + step.mul_int(k);
+            let (hy, hx) = bounds.halves(mean.ellipse.hy * factor, mean.ellipse.hx * factor);
             let e = Ellipse {
-                hx: bounds.half(mean.ellipse.hx * factor),
-                hy: bounds.half(mean.ellipse.hy * factor),
+                hx,
+                hy,
                 ..mean.ellipse
             };
-            let (likelihood, _) = self.likelihood(frame, &e);
+            let (likelihood, rho) = self.likelihood(frame, &e);
             if likelihood > best.0 {
-                best = (likelihood, factor);
+                best = (likelihood, factor, rho);
             }
         }
-        if best.0 == 0 {
-            return; // nothing measured: keep the prediction
+        let gain = self.leaf_cov.gain();
+        self.leaf_cov.update_cov();
+        if best.0 == 0 || best.2 < self.config.lost_below {
+            return;
         }
         self.scale_factor = Some(best.1);
-        let y = [
-            bounds.half(mean.ellipse.hy * best.1),
-            bounds.half(mean.ellipse.hx * best.1),
-        ];
-        let gain = self.leaf_cov.gain();
+        let (hy, hx) = bounds.halves(mean.ellipse.hy * best.1, mean.ellipse.hx * best.1);
+        let y = [hy, hx];
         for p in self.particles.iter_mut() {
             gain.update_mean(&mut p.leaf, y);
-            p.leaf[0] = bounds.half(p.leaf[0]);
-            p.leaf[2] = bounds.half(p.leaf[2]);
+            (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0], p.leaf[2]);
         }
-        self.leaf_cov.update_cov();
     }
 
     /// Weighted mean of the particles that `keep` accepts (all weights normalised).

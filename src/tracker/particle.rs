@@ -69,8 +69,24 @@ impl Bounds {
         }
     }
 
-    pub(crate) fn half(&self, h: Q16) -> Q16 {
-        h.clamp(self.min_half, self.max_half)
+    /// Half-axes `(Hy, Hx)` brought into range keeping their ratio: a pair with an axis
+    /// below `min_half` is scaled up until the smaller one equals it (a non-positive axis
+    /// is set to `min_half`), then each is capped at `max_half`.
+    pub(crate) fn halves(&self, hy: Q16, hx: Q16) -> (Q16, Q16) {
+        let small = hy.min(hx);
+        let (hy, hx) = if small <= Q16::ZERO {
+            (hy.max(self.min_half), hx.max(self.min_half))
+        } else if small < self.min_half {
+            let grow = |h: Q16| {
+                Q16::saturate(
+                    h.to_bits() as i64 * self.min_half.to_bits() as i64 / small.to_bits() as i64,
+                )
+            };
+            (grow(hy), grow(hx))
+        } else {
+            (hy, hx)
+        };
+        (hy.min(self.max_half), hx.min(self.max_half))
     }
 }
 
@@ -102,8 +118,7 @@ impl Motion {
 #[inline]
 pub(crate) fn scale_randomly(p: &mut Particle, relative_noise: Q16, rng: &mut Rng, b: &Bounds) {
     let factor = Q16::ONE + rng.gaussian(relative_noise);
-    p.leaf[0] = b.half(p.leaf[0] * factor);
-    p.leaf[2] = b.half(p.leaf[2] * factor);
+    (p.leaf[0], p.leaf[2]) = b.halves(p.leaf[0] * factor, p.leaf[2] * factor);
 }
 
 /// RBPF leaf mean prediction (eq. 7 of the RBPF paper) for a particle that moved `dy` px
@@ -120,10 +135,11 @@ pub(crate) fn predict_leaf(
     b: &Bounds,
 ) {
     let [hy, dhy, hx, dhx] = p.leaf;
-    let hy_pred = b.half(hy + dhy + scale_per_row * dy);
-    let hx_pred = b.half(Q16::saturate(
-        (hx.to_bits() as i64 * hy_pred.to_bits() as i64) / (hy.to_bits().max(1) as i64),
-    ));
+    let hy_raw = hy + dhy + scale_per_row * dy;
+    let hx_raw = Q16::saturate(
+        (hx.to_bits() as i64 * hy_raw.to_bits() as i64) / (hy.to_bits().max(1) as i64),
+    );
+    let (hy_pred, hx_pred) = b.halves(hy_raw, hx_raw);
     p.leaf = [
         hy_pred,
         dhy + rng.gaussian(rate_noise),
@@ -232,6 +248,18 @@ mod tests {
         );
         assert_eq!(p.leaf[0], Q16::from_int(25));
         assert_eq!(p.leaf[2], Q16::from_f64(12.5));
+        // Shrinking below the smallest half-axis keeps the aspect ratio: Hy 4 -> 1 would
+        // give (1, 0.5); it becomes (4, 2) scaled to (min 2): (4, 2).
+        p.leaf = [Q16::from_int(4), Q16::ZERO, Q16::from_int(2), Q16::ZERO];
+        predict_leaf(
+            &mut p,
+            Q16::from_int(-6),
+            Q16::HALF,
+            Q16::ZERO,
+            &mut rng,
+            &b,
+        );
+        assert_eq!((p.leaf[0], p.leaf[2]), (Q16::from_int(4), Q16::from_int(2)));
         // Degenerate input stays within bounds.
         p.leaf = [Q16::ZERO, Q16::MIN, Q16::MAX, Q16::MAX];
         predict_leaf(&mut p, Q16::MAX, Q16::from_int(4), Q16::ONE, &mut rng, &b);
