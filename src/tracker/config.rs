@@ -141,9 +141,11 @@ pub(crate) struct Derived {
 }
 
 impl Config {
-    /// Defaults for `variant`: position noise 2 px plus 0.2 px per px of half-axis, velocity
-    /// noise 1 px/frame, 300
-    /// pixels per window, colour sigma 0.2, systematic resampling below half the particles.
+    /// Defaults for `variant`: constant velocity with position noise 2 px plus 0.2 px per px
+    /// of half-axis and velocity noise 1 px/frame; 300 pixels per window; colour sigma 0.2,
+    /// gradient sigma 0.3; Kalman `Q = 0.25 I`, `R = 4 I` (smoother sizes than the RBPF
+    /// paper's `4 I` and `2 I`, which follow every noisy scale measurement); systematic
+    /// resampling below half the particles.
     pub fn new(variant: Variant) -> Self {
         Self {
             variant,
@@ -152,7 +154,7 @@ impl Config {
             position_noise: Q16::from_int(2),
             relative_position_noise: Q16::from_f64(0.2),
             velocity_noise: Q16::ONE,
-            velocity_keep: Q16::from_f64(0.9),
+            velocity_keep: Q16::ONE,
             scale_noise: match variant {
                 Variant::ColourPf => Q16::from_f64(0.03),
                 Variant::Rbpf => Q16::from_f64(0.3),
@@ -171,8 +173,8 @@ impl Config {
             lost_below: Q16::from_f64(0.6),
             redetect_share: Q16::HALF,
             scale_per_row: Q16::ZERO,
-            kalman_q: Q16::from_int(4),
-            kalman_r: Q16::from_int(2),
+            kalman_q: Q16::from_f64(0.25),
+            kalman_r: Q16::from_int(4),
             scale_step: Q16::from_f64(0.05),
             min_half_axis: Q16::from_int(2),
         }
