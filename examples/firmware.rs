@@ -30,10 +30,13 @@ mod firmware {
     use core::fmt;
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
+    use rbtrack::cue::{self, GradientConfig, GradientCue};
     use rbtrack::fixed::Q16;
-    use rbtrack::image::Rgb8x8x8;
+    use rbtrack::hist::{Histogram, Model};
+    use rbtrack::image::{ImageView, Rgb565Le, Rgb8x8x8};
     use rbtrack::profile::{CycleCounter, StageCycles};
     use rbtrack::tracker::{Status, Tracker, Variant};
+    use rbtrack::window;
     use rbtrack_firmware::board::{self, Dwt, SysTick};
     use rbtrack_firmware::run::{self, Checksum, FrameReport, BINS, PARTICLES};
     use rbtrack_firmware::scene::{self, FRAMES};
@@ -230,6 +233,83 @@ mod firmware {
         }
     }
 
+    /// Counts spent in `f`, the last of three calls (two warm-ups).
+    fn time<T>(counter: &mut Counter, mut f: impl FnMut() -> T) -> (u32, T) {
+        let mut result = None;
+        let mut spent = 0;
+        for _ in 0..3 {
+            let t0 = counter.now();
+            result = Some(core::hint::black_box(f()));
+            spent = counter.now().wrapping_sub(t0);
+        }
+        match result {
+            Some(r) => (spent, r),
+            None => unreachable!(),
+        }
+    }
+
+    /// Costs of the primitives a particle's weight is made of, on the target's window in
+    /// the rendered frame 0.
+    fn primitives(frame: &[u8], counter: &mut Counter, unit: &str) {
+        let Ok(img) = ImageView::<Rgb565Le>::new(frame, scene::WIDTH, scene::HEIGHT, scene::WIDTH)
+        else {
+            panic!("frame buffer too short");
+        };
+        let config = run::config(Variant::Rbpf);
+        let e = scene::truth(0);
+        let cap = config.pixels_per_window;
+        hprintln!(
+            "primitives on the target's window at frame 0 (hx {}, hy {}, cap {} px), {}:",
+            Fixed::<0, 2>(e.hx),
+            Fixed::<0, 2>(e.hy),
+            cap,
+            unit
+        );
+        let (t, n) = time(counter, || window::visit(&img, &e, cap, |_, _, _| {}));
+        hprintln!(
+            "  window::visit, empty closure  {:>6}  {} px, {} per px",
+            t,
+            n,
+            Ratio(t as u64, n as u64)
+        );
+        let mut hist = Histogram::<BINS>::new();
+        let (t, n) = time(counter, || hist.fill::<Rgb8x8x8, Rgb565Le>(&img, &e, cap));
+        hprintln!(
+            "  Histogram::fill               {:>6}  {} px, {} per px",
+            t,
+            n,
+            Ratio(t as u64, n as u64)
+        );
+        let model = Model::from_histogram(&hist);
+        let (t, _) = time(counter, || hist.bhattacharyya(&model));
+        hprintln!(
+            "  Histogram::bhattacharyya      {:>6}  {} bins",
+            t,
+            hist.touched().len()
+        );
+        let mut cue_config = GradientConfig::new();
+        cue_config.points = config.gradient_points as usize;
+        cue_config.search_px = config.gradient_search as u32;
+        let Ok(cue) = GradientCue::new(&cue_config) else {
+            panic!("gradient cue configuration");
+        };
+        let gradients = cue_config.points as u64 * (2 * cue_config.search_px as u64 + 1);
+        let (t, _) = time(counter, || cue.evaluate(&img, &e));
+        hprintln!(
+            "  GradientCue::evaluate         {:>6}  {} points x {} positions, {} per gradient",
+            t,
+            cue_config.points,
+            2 * cue_config.search_px + 1,
+            Ratio(t as u64, gradients)
+        );
+        let (cx, cy) = (e.cx.round_int(), e.cy.round_int());
+        let (t, _) = time(counter, || cue::gradient_sq(&img, cx, cy));
+        hprintln!(
+            "  cue::gradient_sq              {:>6}  one 5-tap gradient, 8 luma reads",
+            t
+        );
+    }
+
     #[entry]
     fn main() -> ! {
         let Some(mut cp) = cortex_m::Peripherals::take() else {
@@ -287,6 +367,7 @@ mod firmware {
             Ratio(cost.units, cost.pixels),
             counts.iter().filter(|&&c| c > 0).count()
         );
+        primitives(&frame[..], &mut counter, unit);
         hprintln!(
             "tracker RAM (size_of, {} bins): N = 50: {} B, N = 100: {} B, N = 200: {} B",
             BINS,
