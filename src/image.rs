@@ -161,10 +161,18 @@ pub trait Binning: private::Sealed + Copy + core::fmt::Debug + 'static {
         let (r, g, b) = rgb565_to_rgb888(v);
         Self::from_rgb888(r, g, b)
     }
-    /// Bin of a YUV pixel (BT.601 full range, U and V centred on 128).
-    fn from_yuv(y: u8, u: u8, v: u8) -> u16;
-    /// Bin of a grey pixel of luma `y` (0..=255).
-    fn from_luma(y: u8) -> u16;
+    /// Bin of a YUV pixel (BT.601 full range, U and V centred on 128); by default the bin
+    /// of its RGB conversion.
+    #[inline(always)]
+    fn from_yuv(y: u8, u: u8, v: u8) -> u16 {
+        let (r, g, b) = yuv_to_rgb(y, u, v);
+        Self::from_rgb888(r, g, b)
+    }
+    /// Bin of a grey pixel of luma `y` (0..=255); by default the bin of `(y, y, y)`.
+    #[inline(always)]
+    fn from_luma(y: u8) -> u16 {
+        Self::from_rgb888(y, y, y)
+    }
 }
 
 /// 512 bins: 3 bits each of R, G and B (`r3 << 6 | g3 << 3 | b3`).
@@ -203,15 +211,6 @@ impl Binning for Rgb8x8x8 {
     fn from_rgb565(v: u16) -> u16 {
         ((v >> 7) & 0x1C0) | ((v >> 5) & 0x38) | ((v >> 2) & 0x7)
     }
-    #[inline(always)]
-    fn from_yuv(y: u8, u: u8, v: u8) -> u16 {
-        let (r, g, b) = yuv_to_rgb(y, u, v);
-        Self::from_rgb888(r, g, b)
-    }
-    #[inline(always)]
-    fn from_luma(y: u8) -> u16 {
-        Self::from_rgb888(y, y, y)
-    }
 }
 
 impl Binning for Rgb8x8x4 {
@@ -223,15 +222,6 @@ impl Binning for Rgb8x8x4 {
     #[inline(always)]
     fn from_rgb565(v: u16) -> u16 {
         ((v >> 8) & 0xE0) | ((v >> 6) & 0x1C) | ((v >> 3) & 0x3)
-    }
-    #[inline(always)]
-    fn from_yuv(y: u8, u: u8, v: u8) -> u16 {
-        let (r, g, b) = yuv_to_rgb(y, u, v);
-        Self::from_rgb888(r, g, b)
-    }
-    #[inline(always)]
-    fn from_luma(y: u8) -> u16 {
-        Self::from_rgb888(y, y, y)
     }
 }
 

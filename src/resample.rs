@@ -258,6 +258,36 @@ fn residual(weights: &mut [u32], rng: &mut Rng, out: &mut [u16]) {
     }
 }
 
+/// Replaces `items` by the resampled set in place, given the `indices` resampling drew
+/// (each `< items.len()`; others are ignored): an item drawn `k >= 1` times keeps its slot
+/// and its `k - 1` extra copies fill, in order, the slots of the items drawn zero times.
+/// `counts` is scratch of the same length. The result is the drawn multiset in another
+/// order, which a particle filter does not see; it needs no second particle array.
+pub fn replicate<T: Copy>(items: &mut [T], indices: &[u16], counts: &mut [u16]) {
+    counts.iter_mut().for_each(|c| *c = 0);
+    for &i in indices {
+        if let Some(c) = counts.get_mut(i as usize) {
+            *c = c.saturating_add(1);
+        }
+    }
+    let len = items.len().min(counts.len());
+    let mut source = 0;
+    for slot in 0..len {
+        if counts[slot] != 0 {
+            continue;
+        }
+        // Next item with a spare copy.
+        while source < len && counts[source] <= 1 {
+            source += 1;
+        }
+        if source >= len {
+            break;
+        }
+        counts[source] -= 1;
+        items[slot] = items[source];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -490,5 +520,26 @@ mod tests {
             ResampleError::NoParticles.to_string(),
             "no weights to resample from"
         );
+    }
+
+    #[test]
+    fn replicate_gives_the_drawn_multiset() {
+        let mut items = [0, 1, 2, 3, 4, 5];
+        replicate(&mut items, &[4, 4, 4, 1, 0, 1], &mut [0; 6]);
+        let mut got = items;
+        got.sort();
+        assert_eq!(got, [0, 1, 1, 4, 4, 4]);
+    }
+
+    #[test]
+    fn replicate_identity_single_survivor_and_bad_indices() {
+        let mut items = [0, 1, 2, 3];
+        replicate(&mut items, &[0, 1, 2, 3], &mut [0; 4]);
+        assert_eq!(items, [0, 1, 2, 3]);
+        replicate(&mut items, &[2, 2, 2, 2], &mut [0; 4]);
+        assert_eq!(items, [2, 2, 2, 2]);
+        let mut items = [7, 8];
+        replicate(&mut items, &[9, 1], &mut [0; 2]); // 9 is out of range: ignored
+        assert_eq!(items, [7, 8]);
     }
 }

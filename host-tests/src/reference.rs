@@ -71,7 +71,7 @@ use rbtrack::cue::{gradient, GradientConfig, GradientCue};
 use rbtrack::fixed::Q16;
 use rbtrack::image::{Binning, ImageView, PixelFormat};
 use rbtrack::likelihood::COST_MAX;
-use rbtrack::resample::{resample, Scheme, WEIGHT_TOTAL};
+use rbtrack::resample::{replicate, resample, Scheme, WEIGHT_TOTAL};
 use rbtrack::rng::Rng;
 use rbtrack::tracker::{Config, ConfigError, CueMix, Readout, Status, Tracker, Variant};
 use rbtrack::window::{visit, Ellipse};
@@ -797,7 +797,9 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
     /// Replaces the particles by the drawn ones (the core's slot layout), weights uniform.
     fn apply(&mut self, indices: &[usize]) {
         let n = self.particles.len();
-        replicate(&mut self.particles, indices);
+        // The core's in-place copy step, on the reference's particles.
+        let drawn: Vec<u16> = indices.iter().map(|&i| i as u16).collect();
+        replicate(&mut self.particles, &drawn, &mut vec![0; n]);
         self.weights = vec![1.0 / n as f64; n];
     }
 
@@ -843,29 +845,4 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
 
 fn bounds<P: PixelFormat>(config: &Config, frame: &ImageView<'_, P>) -> Bounds {
     Bounds::for_frame(frame.width(), frame.height(), config.min_half_axis.to_f64())
-}
-
-/// The core's in-place copy step: a particle drawn `k >= 1` times keeps its slot, its
-/// extra copies fill, in order, the slots of the particles drawn zero times.
-fn replicate(particles: &mut [RefParticle], indices: &[usize]) {
-    let mut counts = vec![0usize; particles.len()];
-    for &i in indices {
-        if let Some(c) = counts.get_mut(i) {
-            *c += 1;
-        }
-    }
-    let mut source = 0;
-    for slot in 0..particles.len() {
-        if counts[slot] != 0 {
-            continue;
-        }
-        while source < counts.len() && counts[source] <= 1 {
-            source += 1;
-        }
-        if source >= counts.len() {
-            break;
-        }
-        counts[source] -= 1;
-        particles[slot] = particles[source];
-    }
 }

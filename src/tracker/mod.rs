@@ -73,12 +73,14 @@ use crate::image::{Binning, ImageView, PixelFormat};
 use crate::kalman::{BlockNoise, SharedCovariance, Sym2};
 use crate::likelihood::exp_neg;
 use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
-use crate::resample::{effective_sample_size, normalise, resample, Normalised, WEIGHT_TOTAL};
+use crate::resample::{
+    effective_sample_size, normalise, replicate, resample, Normalised, WEIGHT_TOTAL,
+};
 use crate::rng::Rng;
 use crate::window::Ellipse;
 use config::Derived;
 use core::marker::PhantomData;
-use particle::{predict_leaf, replicate, scale_randomly, Bounds, Motion};
+use particle::{predict_leaf, scale_randomly, Bounds, Motion};
 
 /// How sure the tracker is of its estimate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,4 +1,4 @@
-//! Particle state, its motion model and the in-place copy step of resampling.
+//! Particle state and its motion model.
 
 use crate::fixed::Q16;
 use crate::rng::Rng;
@@ -148,66 +148,9 @@ pub(crate) fn predict_leaf(
     ];
 }
 
-/// Replaces `particles` by the resampled set in place, given `indices` (each `< len`) that
-/// resampling drew: a particle drawn k >= 1 times keeps its slot and its extra copies fill
-/// the slots of particles drawn zero times. `counts` is scratch of the same length. The
-/// order differs from `indices`', which a particle filter does not see.
-pub(crate) fn replicate(particles: &mut [Particle], indices: &[u16], counts: &mut [u16]) {
-    counts.iter_mut().for_each(|c| *c = 0);
-    for &i in indices {
-        if let Some(c) = counts.get_mut(i as usize) {
-            *c = c.saturating_add(1);
-        }
-    }
-    let mut source = 0;
-    for slot in 0..particles.len().min(counts.len()) {
-        if counts[slot] != 0 {
-            continue;
-        }
-        // Next particle with a spare copy.
-        while source < counts.len() && counts[source] <= 1 {
-            source += 1;
-        }
-        if source >= counts.len() {
-            break;
-        }
-        counts[source] -= 1;
-        particles[slot] = particles[source];
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn tagged(n: usize) -> std::vec::Vec<Particle> {
-        (0..n)
-            .map(|i| Particle {
-                x: Q16::from_int(i as i32),
-                ..Particle::default()
-            })
-            .collect()
-    }
-
-    #[test]
-    fn replicate_gives_the_drawn_multiset() {
-        let mut ps = tagged(6);
-        let indices = [4u16, 4, 4, 1, 0, 1];
-        let mut counts = [0u16; 6];
-        replicate(&mut ps, &indices, &mut counts);
-        let mut got: std::vec::Vec<i32> = ps.iter().map(|p| p.x.round_int()).collect();
-        got.sort();
-        assert_eq!(got, [0, 1, 1, 4, 4, 4]);
-    }
-
-    #[test]
-    fn replicate_identity_and_single_survivor() {
-        let mut ps = tagged(4);
-        replicate(&mut ps, &[0, 1, 2, 3], &mut [0; 4]);
-        assert_eq!(ps, tagged(4));
-        replicate(&mut ps, &[2, 2, 2, 2], &mut [0; 4]);
-        assert!(ps.iter().all(|p| p.x == Q16::from_int(2)));
-    }
 
     #[test]
     fn drift_stays_in_frame() {
