@@ -25,20 +25,41 @@ enum Weight {
     Max,
 }
 
+/// A number of weights: mostly small (fast inputs), sometimes above `MAX_PARTICLES`.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+enum Len {
+    /// 0..=255.
+    Small(u8),
+    /// 0..=2047.
+    Medium(u16),
+    /// 0..70,000.
+    Large(u32),
+}
+
+impl Len {
+    fn get(self) -> usize {
+        match self {
+            Len::Small(n) => n as usize,
+            Len::Medium(n) => (n % 2048) as usize,
+            Len::Large(n) => (n % 70_000) as usize,
+        }
+    }
+}
+
 #[derive(Arbitrary, Debug, Clone)]
 struct Input {
     scheme: SchemeSpec,
     seed: u64,
     /// Weights, repeated to `len` entries (zeros when empty).
     pattern: Vec<Weight>,
-    /// Number of weights: `len % 70_000`, so above `MAX_PARTICLES` too.
-    len: u32,
+    /// Number of weights.
+    len: Len,
     /// Number of draws: `draws % 4096`.
     draws: u16,
 }
 
 fuzz_target!(|input: Input| {
-    let len = (input.len % 70_000) as usize;
+    let len = input.len.get();
     let weights: Vec<u32> = if input.pattern.is_empty() {
         vec![0; len]
     } else {

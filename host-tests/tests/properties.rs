@@ -620,3 +620,25 @@ proptest! {
         prop_assert_eq!(x.saturating_mul(y), x * y);
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Entry points the fuzz targets cannot vary: the const generic particle count.
+
+/// `N = 0` is refused with `ConfigError::ParticleCount`, not a panic (`N` above 65535 is
+/// refused the same way; such a tracker is too large to build on a test's stack).
+#[test]
+fn zero_particles_is_an_error() {
+    use rbtrack::tracker::{Config, ConfigError, Tracker, Variant};
+    let buf = [0u8; 16 * 16];
+    let img = ImageView::<Gray8>::new(&buf, 16, 16, 16).expect("frame");
+    let init = Ellipse::new(
+        Q16::from_int(8),
+        Q16::from_int(8),
+        Q16::from_int(3),
+        Q16::from_int(3),
+    );
+    for variant in [Variant::Rbpf, Variant::ColourPf] {
+        let r = Tracker::<Luma64, 0, 64>::new(Config::new(variant), &img, init);
+        assert_eq!(r.err(), Some(ConfigError::ParticleCount));
+    }
+}

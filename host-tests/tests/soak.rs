@@ -387,7 +387,7 @@ fn soak_20k_frames() {
 
 /// 1,000,000 frames (500 cycles) per tracker, fixed model, each run twice.
 #[test]
-#[ignore = "long: about 4 minutes in release; run with --ignored"]
+#[ignore = "long: about 2.5 minutes in release; run with --ignored"]
 fn soak_1m_frames() {
     check(1_000_000, false);
 }
