@@ -34,7 +34,9 @@
 //! Both paths give bit-for-bit the same means and covariances when the noise is
 //! block-diagonal and `P` starts block-diagonal (tested below): the gain and the covariance
 //! correction are each computed as one correctly rounded quotient of exact integers, and
-//! the 4x4 quotient reduces to the 2x2 one as a rational number.
+//! the 4x4 quotient reduces to the 2x2 one as a rational number. One exception: with a
+//! zero measurement variance a block's innovation `S` can be 0; the general path then
+//! skips the whole update (its 2x2 `S` is singular), the shared path only that block's.
 //!
 //! # Number formats
 //! - Means, covariances, `Q`, `R`, `S`, `dt`, measurements: [`Q16`] (Q16.16, range
