@@ -34,7 +34,9 @@
 //! Both paths give bit-for-bit the same means and covariances when the noise is
 //! block-diagonal and `P` starts block-diagonal (tested below): the gain and the covariance
 //! correction are each computed as one correctly rounded quotient of exact integers, and
-//! the 4x4 quotient reduces to the 2x2 one as a rational number.
+//! the 4x4 quotient reduces to the 2x2 one as a rational number. One exception: with a
+//! zero measurement variance a block's innovation `S` can be 0; the general path then
+//! skips the whole update (its 2x2 `S` is singular), the shared path only that block's.
 //!
 //! # Number formats
 //! - Means, covariances, `Q`, `R`, `S`, `dt`, measurements: [`Q16`] (Q16.16, range
@@ -43,6 +45,17 @@
 //!   `6e-8`; a gain outside that range saturates (only with a covariance that is far from
 //!   its steady state, e.g. a rate variance 10^4 times the position variance).
 //! - Intermediates: `i64` for products, `i128` for the general path's 2x2 inverse.
+//!
+//! # Keeping `P` positive semidefinite
+//! Exact arithmetic keeps `P` positive semidefinite, but the Q16.16 rails do not: without
+//! measurements `P` grows every prediction (with `Q = 4 I`, `P00` reaches the rail after
+//! about 30 steps) and an entry that sticks at the rail while its neighbours keep growing
+//! makes `P` indefinite (`P01^2 > P00 P11`). So every prediction and update ends by setting
+//! negative variances to 0 and limiting each covariance to `|P_ij| <= sqrt(P_ii P_jj)`
+//! (rounded down). This is a no-op while `P` is PSD, so it changes nothing away from the
+//! rails; in the shared path it makes each 2x2 block PSD exactly (the general path: each
+//! pair). Tested in `host-tests/tests/properties.rs` (extreme `Q`, `R`, `dt` and long runs
+//! without measurements).
 //!
 //! # Accuracy
 //! Each stored covariance entry is within one rounding (`2^-17`) of the exact update of the
@@ -407,6 +420,58 @@ const fn sub_correction(p: Q16, c: i128) -> Q16 {
     Q16::saturate((p.to_bits() as i64).saturating_sub(c))
 }
 
+/// `c` limited to `|c| <= sqrt(a b)` (rounded down), for variances `a`, `b` (negative ones
+/// count as 0): the covariance of two variables can be no larger, so `[[a, c], [c, b]]`
+/// is positive semidefinite. A no-op unless saturation or rounding broke that.
+const fn limit_covariance(c: Q16, a: Q16, b: Q16) -> Q16 {
+    let (a, b) = (a.to_bits(), b.to_bits());
+    let a = if a > 0 { a as u64 } else { 0 };
+    let b = if b > 0 { b as u64 } else { 0 };
+    let bound = (a * b).isqrt() as i64; // < 2^31
+    let v = c.to_bits() as i64;
+    Q16::from_bits(if v > bound {
+        bound
+    } else if v < -bound {
+        -bound
+    } else {
+        v
+    } as i32)
+}
+
+/// A 2x2 covariance made positive semidefinite: variances `>= 0`, the covariance
+/// limited by [`limit_covariance`].
+const fn psd2(p: Sym2) -> Sym2 {
+    let a00 = p.a00.max(Q16::ZERO);
+    let a11 = p.a11.max(Q16::ZERO);
+    Sym2 {
+        a00,
+        a01: limit_covariance(p.a01, a00, a11),
+        a11,
+    }
+}
+
+/// [`psd2`] for every pair of a 4x4 covariance: variances `>= 0`, every covariance
+/// limited by its two variances. On a block-diagonal `P` this is [`psd2`] of each block
+/// (the off-block entries are 0 and stay 0), so both paths stay bit-identical.
+const fn psd4(p: Sym4) -> Sym4 {
+    let a00 = p.a00.max(Q16::ZERO);
+    let a11 = p.a11.max(Q16::ZERO);
+    let a22 = p.a22.max(Q16::ZERO);
+    let a33 = p.a33.max(Q16::ZERO);
+    Sym4 {
+        a00,
+        a01: limit_covariance(p.a01, a00, a11),
+        a02: limit_covariance(p.a02, a00, a22),
+        a03: limit_covariance(p.a03, a00, a33),
+        a11,
+        a12: limit_covariance(p.a12, a11, a22),
+        a13: limit_covariance(p.a13, a11, a33),
+        a22,
+        a23: limit_covariance(p.a23, a22, a33),
+        a33,
+    }
+}
+
 /// `x + (k * e) / 2^24` rounded (halves up), saturating; `k` Q8.24 raw, `e` Q16.16 raw,
 /// the product in Q40 as an `i64` (already summed over measurements).
 const fn add_gain_product(x: Q16, ke: i64) -> Q16 {
@@ -511,7 +576,8 @@ impl Filter {
     }
 
     /// Covariance prediction `P <- A(dt) P A(dt)^T + Q`, saturating. Computed as `M = A P`
-    /// then `M A^T`, one rounding per product (upper triangle only, so `P` stays symmetric).
+    /// then `M A^T`, one rounding per product (upper triangle only, so `P` stays symmetric);
+    /// then kept positive semidefinite pairwise (see the module docs).
     ///
     /// # Arguments
     /// - `dt`: frame interval, Q16.16.
@@ -524,7 +590,7 @@ impl Filter {
         let m03 = axpy(p.a03, dt, p.a13);
         let m22 = axpy(p.a22, dt, p.a23);
         let m23 = axpy(p.a23, dt, p.a33);
-        self.cov = Sym4 {
+        self.cov = psd4(Sym4 {
             a00: axpy(m00, dt, m01) + q.a00,
             a01: m01 + q.a01,
             a02: axpy(m02, dt, m03) + q.a02,
@@ -535,7 +601,7 @@ impl Filter {
             a22: axpy(m22, dt, m23) + q.a22,
             a23: m23 + q.a23,
             a33: p.a33 + q.a33,
-        };
+        });
     }
 
     /// Mean and covariance prediction with the standard `A mu`.
@@ -583,7 +649,8 @@ impl Filter {
 
     /// Covariance update `P <- P - K H P = P - (P H^T) S^-1 (H P)`, each entry corrected
     /// by one correctly rounded quotient of exact integers (`i128`), upper triangle only;
-    /// diagonal entries are kept `>= 0`. Call after [`Filter::gain`] and with the same `R`.
+    /// then kept positive semidefinite pairwise (see the module docs). Call after
+    /// [`Filter::gain`] and with the same `R`.
     /// A singular `S` leaves `P` unchanged.
     pub fn update_cov(&mut self, r: &Sym2) {
         let p = self.cov;
@@ -600,19 +667,18 @@ impl Filter {
         let (w0, w1, w2, w3) = (w(c00, c10), w(c01, c11), w(c02, c12), w(c03, c13));
         // Entry (i, j) of (P H^T) S^-1 (H P): (w_i . (c0_j, c1_j)) / det, Q48 / Q32.
         let corr = |wi: [i128; 2], a: i128, b: i128| div_round_i128(wi[0] * a + wi[1] * b, det);
-        let diag = |v: Q16| v.max(Q16::ZERO);
-        self.cov = Sym4 {
-            a00: diag(sub_correction(p.a00, corr(w0, c00, c10))),
+        self.cov = psd4(Sym4 {
+            a00: sub_correction(p.a00, corr(w0, c00, c10)),
             a01: sub_correction(p.a01, corr(w0, c01, c11)),
             a02: sub_correction(p.a02, corr(w0, c02, c12)),
             a03: sub_correction(p.a03, corr(w0, c03, c13)),
-            a11: diag(sub_correction(p.a11, corr(w1, c01, c11))),
+            a11: sub_correction(p.a11, corr(w1, c01, c11)),
             a12: sub_correction(p.a12, corr(w1, c02, c12)),
             a13: sub_correction(p.a13, corr(w1, c03, c13)),
-            a22: diag(sub_correction(p.a22, corr(w2, c02, c12))),
+            a22: sub_correction(p.a22, corr(w2, c02, c12)),
             a23: sub_correction(p.a23, corr(w2, c03, c13)),
-            a33: diag(sub_correction(p.a33, corr(w3, c03, c13))),
-        };
+            a33: sub_correction(p.a33, corr(w3, c03, c13)),
+        });
     }
 
     /// Full update with measurement `y = (Hy, Hx)` (Q16.16): gain, mean, covariance.
@@ -648,16 +714,16 @@ pub struct BlockGain {
 
 impl Block {
     /// Covariance prediction with `A = [[1, dt], [0, 1]]` and process noise `q` (the same
-    /// rounding steps as [`Filter::predict_cov`]).
+    /// rounding steps as [`Filter::predict_cov`]), kept positive semidefinite.
     pub fn predict(&mut self, dt: Q16, q: &Sym2) {
         let p = self.cov;
         let m00 = axpy(p.a00, dt, p.a01);
         let m01 = axpy(p.a01, dt, p.a11);
-        self.cov = Sym2 {
+        self.cov = psd2(Sym2 {
             a00: axpy(m00, dt, m01) + q.a00,
             a01: m01 + q.a01,
             a11: p.a11 + q.a11,
-        };
+        });
     }
 
     /// `S = P00 + r` unsaturated (Q16.16 raw).
@@ -682,7 +748,7 @@ impl Block {
     }
 
     /// Covariance update `P <- P - P[:, 0] P[0, :] / S` (one rounded quotient per entry,
-    /// diagonal kept `>= 0`); `S <= 0` leaves `P` unchanged.
+    /// kept positive semidefinite); `S <= 0` leaves `P` unchanged.
     pub fn update(&mut self, r: Q16) {
         let s = self.s_raw(r);
         if s <= 0 {
@@ -690,11 +756,11 @@ impl Block {
         }
         let p = self.cov;
         let (c0, c1) = (p.a00.to_bits() as i64, p.a01.to_bits() as i64);
-        self.cov = Sym2 {
-            a00: sub_correction(p.a00, div_round_i64(c0 * c0, s)).max(Q16::ZERO),
+        self.cov = psd2(Sym2 {
+            a00: sub_correction(p.a00, div_round_i64(c0 * c0, s)),
             a01: sub_correction(p.a01, div_round_i64(c0 * c1, s)),
-            a11: sub_correction(p.a11, div_round_i64(c1 * c1, s)).max(Q16::ZERO),
-        };
+            a11: sub_correction(p.a11, div_round_i64(c1 * c1, s)),
+        });
     }
 }
 
@@ -1068,6 +1134,44 @@ mod tests {
             let (mut p, mut v) = (any(), any());
             g.update_mean(&mut p, &mut v, any());
             b.update(any());
+        }
+    }
+
+    /// Regression (issue 7, found by the `kalman` fuzz target): with no measurement for
+    /// 31 steps (`Q = 4 I`), `P00` stuck at the rail while `P01` kept growing and `P`
+    /// became indefinite; a negative `dt` made a variance negative. Both paths now stay
+    /// positive semidefinite, and the shared one still equals the general one bit for bit.
+    #[test]
+    fn rails_keep_the_covariance_psd() {
+        let noise = BlockNoise::PAPER;
+        let p0 = Sym2::diagonal(q(2.0), q(4.0));
+        let mut shared = SharedCovariance::new(p0, p0, noise).unwrap();
+        let mut f = Filter::new([Q16::ZERO; 4], Sym4::from_blocks(p0, p0));
+        let mut means = [[q(10.0), Q16::ZERO, q(10.0), Q16::ZERO]];
+        let mut step = |dt: Q16, update: bool| {
+            shared.predict(dt);
+            f.predict_cov(dt, &noise.general().q);
+            if update {
+                shared.update(&mut means, [q(10.0), q(10.0)]);
+                f.update([q(10.0), q(10.0)], &noise.general().r);
+            }
+            assert!(shared.cov().y_block().is_psd() && shared.cov().x_block().is_psd());
+            assert_eq!(shared.cov(), f.cov);
+            shared.cov()
+        };
+        let mut p = Sym4::ZERO;
+        for _ in 0..2000 {
+            p = step(Q16::ONE, false);
+        }
+        assert_eq!(p.a00, Q16::MAX);
+        for _ in 0..50 {
+            p = step(Q16::ONE, true);
+        }
+        // Back at the steady state of the paper's noise.
+        assert!((p.a00.to_f64() - 1.7643).abs() < 1e-3, "{p:?}");
+        for dt in [Q16::MIN, Q16::MAX, q(-3.0), q(700.0)] {
+            step(dt, false);
+            step(dt, true);
         }
     }
 

@@ -3,6 +3,7 @@
 
 pub mod cli;
 pub mod draw;
+pub mod faults;
 pub mod metrics;
 pub mod paper;
 pub mod progress;

@@ -314,6 +314,13 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.weight_recoveries
     }
 
+    /// The Kalman covariance of the leaf `(Hy, dHy, Hx, dHx)` that every particle shares
+    /// (RBPF; the colour PF leaves it at its initial value). Read-only, for checks such
+    /// as the long-run soak test.
+    pub fn leaf_covariance(&self) -> crate::kalman::Sym4 {
+        self.leaf_cov.cov()
+    }
+
     fn propagate(&mut self, bounds: &Bounds) {
         let searching = self.estimate.status != Status::Tracking;
         if searching {

@@ -1,0 +1,439 @@
+//! Structured fuzz inputs shared by the targets: frames of any size, stride, pixel format
+//! and content; tracker configurations in which every field may be out of range; ellipses
+//! anywhere, the Q16.16 rails included.
+//!
+//! Each type derives [`Arbitrary`], so libFuzzer's bytes map onto it and mutations of the
+//! bytes move through the space of frames and configurations. Every spec mixes "raw"
+//! values (any `i32`, any `usize`) with small, plausible ones, so the fuzzer reaches both
+//! the rejection paths and the per-frame path quickly.
+
+use arbitrary::Arbitrary;
+use rbtrack::fixed::Q16;
+use rbtrack::resample::Scheme;
+use rbtrack::tracker::{Config, CueMix, Estimate, Readout, Variant};
+use rbtrack::window::{Ellipse, MAX_CAP};
+
+/// Largest frame buffer a spec builds, bytes (the rest of a bigger frame is left out, so
+/// `ImageView::new` rejects it as too short).
+pub const MAX_BUFFER: usize = 1 << 18;
+
+/// A Q16.16 value.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum Q {
+    /// Any raw value, the rails included.
+    Raw(i32),
+    /// A whole number.
+    Int(i16),
+    /// A fraction in `[0, 1)`.
+    Frac(u16),
+    /// 1.0.
+    One,
+    /// [`Q16::MAX`].
+    Max,
+    /// [`Q16::MIN`].
+    Min,
+    /// 0.
+    Zero,
+}
+
+impl Q {
+    /// The value.
+    pub fn get(self) -> Q16 {
+        match self {
+            Q::Raw(v) => Q16::from_bits(v),
+            Q::Int(v) => Q16::from_int(v as i32),
+            Q::Frac(v) => Q16::from_bits(v as i32),
+            Q::One => Q16::ONE,
+            Q::Max => Q16::MAX,
+            Q::Min => Q16::MIN,
+            Q::Zero => Q16::ZERO,
+        }
+    }
+}
+
+/// A frame dimension, px.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum Dim {
+    /// 0..=255.
+    Small(u8),
+    /// 0..=65535 (above `MAX_SIDE` from 16384 on).
+    Medium(u16),
+    /// Anything.
+    Any(usize),
+}
+
+impl Dim {
+    /// The value, px.
+    pub fn get(self) -> usize {
+        match self {
+            Dim::Small(v) => v as usize,
+            Dim::Medium(v) => v as usize,
+            Dim::Any(v) => v,
+        }
+    }
+}
+
+/// Pixel format of a frame.
+#[derive(Arbitrary, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// `Gray8`.
+    Gray8,
+    /// `Rgb565Le`.
+    Rgb565Le,
+    /// `Rgb565Be`.
+    Rgb565Be,
+    /// `Rgb888`.
+    Rgb888,
+    /// `Yuv422`.
+    Yuv422,
+}
+
+impl Format {
+    /// Bytes per pixel.
+    pub fn bytes_per_pixel(self) -> usize {
+        match self {
+            Format::Gray8 => 1,
+            Format::Rgb888 => 3,
+            _ => 2,
+        }
+    }
+}
+
+/// Calls `$body` with the type `$p` bound to the pixel format of `$format`.
+#[macro_export]
+macro_rules! with_format {
+    ($format:expr, $p:ident => $body:expr) => {
+        match $format {
+            $crate::Format::Gray8 => {
+                type $p = rbtrack::image::Gray8;
+                $body
+            }
+            $crate::Format::Rgb565Le => {
+                type $p = rbtrack::image::Rgb565Le;
+                $body
+            }
+            $crate::Format::Rgb565Be => {
+                type $p = rbtrack::image::Rgb565Be;
+                $body
+            }
+            $crate::Format::Rgb888 => {
+                type $p = rbtrack::image::Rgb888;
+                $body
+            }
+            $crate::Format::Yuv422 => {
+                type $p = rbtrack::image::Yuv422;
+                $body
+            }
+        }
+    };
+}
+
+/// A frame: size, stride and bytes, possibly inconsistent.
+#[derive(Arbitrary, Debug, Clone)]
+pub struct FrameSpec {
+    /// Width, px.
+    pub width: Dim,
+    /// Height, px.
+    pub height: Dim,
+    /// Stride: `width + stride` (wrapping) unless `stride_raw`, then `stride` itself.
+    pub stride: Dim,
+    /// Whether `stride` is the stride itself rather than the padding.
+    pub stride_raw: bool,
+    /// Bytes missing from the end of the buffer.
+    pub shorten: u8,
+    /// Pixel bytes, repeated to fill the buffer (zeros when empty).
+    pub pattern: Vec<u8>,
+}
+
+/// A built frame buffer and the size claimed for it.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    /// Bytes.
+    pub buf: Vec<u8>,
+    /// Claimed width, px.
+    pub width: usize,
+    /// Claimed height, px.
+    pub height: usize,
+    /// Claimed stride, px.
+    pub stride: usize,
+}
+
+impl FrameSpec {
+    /// Builds the buffer: as long as the claimed size needs (less `shorten` bytes) when
+    /// that is at most [`MAX_BUFFER`], else just the pattern.
+    pub fn build(&self, bytes_per_pixel: usize) -> Frame {
+        let width = self.width.get();
+        let height = self.height.get();
+        let stride = if self.stride_raw {
+            self.stride.get()
+        } else {
+            width.wrapping_add(self.stride.get())
+        };
+        let needed = height
+            .checked_sub(1)
+            .and_then(|rows| rows.checked_mul(stride))
+            .and_then(|px| px.checked_add(width))
+            .and_then(|px| px.checked_mul(bytes_per_pixel));
+        let len = match needed {
+            Some(n) if n <= MAX_BUFFER => n.saturating_sub(self.shorten as usize),
+            _ => self.pattern.len().min(MAX_BUFFER),
+        };
+        let buf = if self.pattern.is_empty() {
+            vec![0; len]
+        } else {
+            self.pattern.iter().copied().cycle().take(len).collect()
+        };
+        Frame {
+            buf,
+            width,
+            height,
+            stride,
+        }
+    }
+}
+
+/// An ellipse: absolute Q16.16 values, or placed relative to a frame.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum EllipseSpec {
+    /// Any centre and half-axes.
+    Absolute {
+        /// Centre column.
+        cx: Q,
+        /// Centre row.
+        cy: Q,
+        /// Horizontal half-axis.
+        hx: Q,
+        /// Vertical half-axis.
+        hy: Q,
+    },
+    /// Centre at `(fx, fy) / 255` of the frame, half-axes in px.
+    Relative {
+        /// Horizontal position, 0 (left) to 255 (right).
+        fx: u8,
+        /// Vertical position, 0 (top) to 255 (bottom).
+        fy: u8,
+        /// Horizontal half-axis, px.
+        hx: u16,
+        /// Vertical half-axis, px.
+        hy: u16,
+    },
+}
+
+impl EllipseSpec {
+    /// The ellipse for a frame of `width x height` px.
+    pub fn get(self, width: usize, height: usize) -> Ellipse {
+        match self {
+            EllipseSpec::Absolute { cx, cy, hx, hy } => {
+                Ellipse::new(cx.get(), cy.get(), hx.get(), hy.get())
+            }
+            EllipseSpec::Relative { fx, fy, hx, hy } => {
+                let at = |f: u8, side: usize| {
+                    Q16::from_ratio(f as i64 * side.saturating_sub(1) as i64, 255)
+                };
+                Ellipse::new(
+                    at(fx, width),
+                    at(fy, height),
+                    Q16::from_int(hx as i32),
+                    Q16::from_int(hy as i32),
+                )
+            }
+        }
+    }
+}
+
+/// Filter variant.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum VariantSpec {
+    /// Colour particle filter.
+    ColourPf,
+    /// Rao-Blackwellised particle filter.
+    Rbpf,
+}
+
+/// Resampling scheme.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum SchemeSpec {
+    /// Multinomial.
+    Multinomial,
+    /// Systematic.
+    Systematic,
+    /// Stratified.
+    Stratified,
+    /// Residual.
+    Residual,
+}
+
+impl SchemeSpec {
+    /// The scheme.
+    pub fn get(self) -> Scheme {
+        match self {
+            SchemeSpec::Multinomial => Scheme::Multinomial,
+            SchemeSpec::Systematic => Scheme::Systematic,
+            SchemeSpec::Stratified => Scheme::Stratified,
+            SchemeSpec::Residual => Scheme::Residual,
+        }
+    }
+}
+
+/// Estimate read-out.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum ReadoutSpec {
+    /// Weighted mean.
+    Mean,
+    /// Best particle.
+    Best,
+    /// Robust mean with this radius.
+    RobustMean(Q),
+}
+
+/// Cue combination.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum CueMixSpec {
+    /// Average with this colour share.
+    Average(Q),
+    /// Product.
+    Product,
+}
+
+/// A tracker configuration: the defaults of `variant`, with each field that is `Some`
+/// replaced by any value (in range or not).
+#[derive(Arbitrary, Debug, Clone)]
+#[allow(missing_docs)]
+pub struct ConfigSpec {
+    pub variant: VariantSpec,
+    pub seed: u64,
+    pub pixels_per_window: Option<u32>,
+    pub position_noise: Option<Q>,
+    pub relative_position_noise: Option<Q>,
+    pub velocity_noise: Option<Q>,
+    pub velocity_keep: Option<Q>,
+    pub scale_noise: Option<Q>,
+    pub colour_sigma: Option<Q>,
+    pub gradient_sigma: Option<Q>,
+    pub cue_mix: Option<CueMixSpec>,
+    pub gradient_points: Option<u8>,
+    pub gradient_search: Option<u8>,
+    pub resampling: Option<SchemeSpec>,
+    pub resample_below: Option<Q>,
+    pub readout: Option<ReadoutSpec>,
+    pub adapt_rate: Option<Q>,
+    pub adapt_above: Option<Q>,
+    pub uncertain_below: Option<Q>,
+    pub lost_below: Option<Q>,
+    pub redetect_share: Option<Q>,
+    pub scale_per_row: Option<Q>,
+    pub kalman_q: Option<Q>,
+    pub kalman_r: Option<Q>,
+    pub scale_step: Option<Q>,
+    pub min_half_axis: Option<Q>,
+}
+
+impl ConfigSpec {
+    /// The configuration.
+    pub fn build(&self) -> Config {
+        let mut c = Config::new(match self.variant {
+            VariantSpec::ColourPf => Variant::ColourPf,
+            VariantSpec::Rbpf => Variant::Rbpf,
+        });
+        c.seed = self.seed;
+        let set = |field: &mut Q16, v: Option<Q>| {
+            if let Some(v) = v {
+                *field = v.get();
+            }
+        };
+        if let Some(v) = self.pixels_per_window {
+            c.pixels_per_window = v;
+        }
+        set(&mut c.position_noise, self.position_noise);
+        set(&mut c.relative_position_noise, self.relative_position_noise);
+        set(&mut c.velocity_noise, self.velocity_noise);
+        set(&mut c.velocity_keep, self.velocity_keep);
+        set(&mut c.scale_noise, self.scale_noise);
+        set(&mut c.colour_sigma, self.colour_sigma);
+        set(&mut c.gradient_sigma, self.gradient_sigma);
+        if let Some(m) = self.cue_mix {
+            c.cue_mix = match m {
+                CueMixSpec::Average(a) => CueMix::Average(a.get()),
+                CueMixSpec::Product => CueMix::Product,
+            };
+        }
+        if let Some(v) = self.gradient_points {
+            c.gradient_points = v;
+        }
+        if let Some(v) = self.gradient_search {
+            c.gradient_search = v;
+        }
+        if let Some(s) = self.resampling {
+            c.resampling = s.get();
+        }
+        set(&mut c.resample_below, self.resample_below);
+        if let Some(r) = self.readout {
+            c.readout = match r {
+                ReadoutSpec::Mean => Readout::Mean,
+                ReadoutSpec::Best => Readout::Best,
+                ReadoutSpec::RobustMean(q) => Readout::RobustMean(q.get()),
+            };
+        }
+        set(&mut c.adapt_rate, self.adapt_rate);
+        set(&mut c.adapt_above, self.adapt_above);
+        set(&mut c.uncertain_below, self.uncertain_below);
+        set(&mut c.lost_below, self.lost_below);
+        set(&mut c.redetect_share, self.redetect_share);
+        set(&mut c.scale_per_row, self.scale_per_row);
+        set(&mut c.kalman_q, self.kalman_q);
+        set(&mut c.kalman_r, self.kalman_r);
+        set(&mut c.scale_step, self.scale_step);
+        set(&mut c.min_half_axis, self.min_half_axis);
+        c
+    }
+}
+
+/// Whether `init` is an initial ellipse `Tracker::new` must accept in a
+/// `width x height` frame: half-axes at least `min_half_axis`, centre inside the frame.
+pub fn init_is_valid(init: &Ellipse, min_half_axis: Q16, width: usize, height: usize) -> bool {
+    let inside = |v: Q16, side: usize| v >= Q16::ZERO && v <= Q16::from_int(side as i32 - 1);
+    init.hx >= min_half_axis
+        && init.hy >= min_half_axis
+        && inside(init.cx, width)
+        && inside(init.cy, height)
+}
+
+/// Checks the documented guarantees of a step's result in a `width x height` frame:
+/// centre inside the frame, half-axes positive and at most the frame's longer side (or
+/// `min_half_axis` if that is larger), confidence in `[0, 1]`, and at most
+/// `(n + 6) * min(pixels_per_window, MAX_CAP)` pixels read.
+pub fn check_estimate(
+    e: &Estimate,
+    config: &Config,
+    n: usize,
+    pixels_visited: u32,
+    width: usize,
+    height: usize,
+) {
+    let el = e.ellipse;
+    let max_x = Q16::from_int(width as i32 - 1);
+    let max_y = Q16::from_int(height as i32 - 1);
+    assert!(
+        el.cx >= Q16::ZERO && el.cx <= max_x,
+        "cx {:?} in {width}x{height}",
+        el.cx
+    );
+    assert!(
+        el.cy >= Q16::ZERO && el.cy <= max_y,
+        "cy {:?} in {width}x{height}",
+        el.cy
+    );
+    let max_half = max_x.max(max_y).max(config.min_half_axis);
+    for h in [el.hx, el.hy] {
+        assert!(
+            h > Q16::ZERO && h <= max_half,
+            "half-axis {h:?} in {width}x{height}"
+        );
+    }
+    assert!(e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE);
+    let cap = config.pixels_per_window.min(MAX_CAP) as u64;
+    assert!(
+        pixels_visited as u64 <= (n as u64 + 6) * cap,
+        "{pixels_visited} pixels, N = {n}, cap {cap}"
+    );
+}
