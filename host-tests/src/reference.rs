@@ -208,6 +208,7 @@ struct Bounds {
     max_y: f64,
     min_half: f64,
     max_half: f64,
+    max_speed: f64,
 }
 
 impl Bounds {
@@ -218,6 +219,7 @@ impl Bounds {
             max_y,
             min_half,
             max_half: max_x.max(max_y).max(min_half),
+            max_speed: (width.max(height) / 4) as f64,
         }
     }
 
@@ -501,8 +503,9 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         let (keep, sigma_v) = (c.velocity_keep.to_f64(), c.velocity_noise.to_f64());
         let sigma = c.position_noise.to_f64()
             + c.relative_position_noise.to_f64() * (p.leaf[0] + p.leaf[2]) / 2.0;
-        p.vx = keep * p.vx + self.gaussian(sigma_v);
-        p.vy = keep * p.vy + self.gaussian(sigma_v);
+        let vmax = bounds.max_speed;
+        p.vx = (keep * p.vx + self.gaussian(sigma_v)).clamp(-vmax, vmax);
+        p.vy = (keep * p.vy + self.gaussian(sigma_v)).clamp(-vmax, vmax);
         p.x = (p.x + p.vx + self.gaussian(sigma)).clamp(0.0, bounds.max_x);
         p.y = (p.y + p.vy + self.gaussian(sigma)).clamp(0.0, bounds.max_y);
     }

@@ -232,11 +232,7 @@ fn torn_frames_colour_pf() {
     check("torn", Variant::ColourPf, torn);
 }
 
-/// Fails today for seed 1: while the light is 1.5x, the RBPF's ellipse shrinks to the
-/// smallest half-axis on a matching patch, and once the light is back it takes 11 frames
-/// (10 of them `Uncertain`) to grow back onto the target. Seeds 2 to 5: 1 frame.
 #[test]
-#[ignore = "re-acquisition: see issue 7 note"]
 fn illumination_change_rbpf() {
     check("illumination", Variant::Rbpf, illumination);
 }

@@ -154,7 +154,7 @@ impl Config {
             position_noise: Q16::from_int(2),
             relative_position_noise: Q16::from_f64(0.2),
             velocity_noise: Q16::ONE,
-            velocity_keep: Q16::ONE,
+            velocity_keep: Q16::from_f64(0.95),
             scale_noise: match variant {
                 Variant::ColourPf => Q16::from_f64(0.03),
                 Variant::Rbpf => Q16::from_f64(0.3),

@@ -55,6 +55,8 @@ pub(crate) struct Bounds {
     /// Half-axis range, px, Q16.16.
     pub min_half: Q16,
     pub max_half: Q16,
+    /// Largest speed along each axis, px/frame, Q16.16: a quarter of the larger side.
+    pub max_speed: Q16,
 }
 
 impl Bounds {
@@ -66,6 +68,7 @@ impl Bounds {
             max_y,
             min_half,
             max_half: max_x.max(max_y).max(min_half),
+            max_speed: Q16::from_int(width.max(height) as i32 / 4),
         }
     }
 
@@ -101,12 +104,14 @@ pub(crate) struct Motion {
 
 impl Motion {
     /// Constant-velocity drift with Gaussian noise:
-    /// `v <- keep v + sigma_v n`, `x <- x + v + sigma n`, centre clamped to the frame, where
+    /// `v <- keep v + sigma_v n` (each axis limited to a quarter of the frame's larger side
+    /// per frame), `x <- x + v + sigma n`, centre clamped to the frame, where
     /// `sigma = position_noise + relative_noise * (Hx + Hy) / 2` grows with the target.
     #[inline]
     pub(crate) fn drift(&self, p: &mut Particle, rng: &mut Rng, bounds: &Bounds) {
-        p.vx = self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise);
-        p.vy = self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise);
+        let vmax = bounds.max_speed;
+        p.vx = (self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
+        p.vy = (self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
         let size = Q16::from_bits((p.leaf[0].to_bits() >> 1) + (p.leaf[2].to_bits() >> 1));
         let sigma = self.position_noise + self.relative_noise * size;
         p.x = (p.x + p.vx + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_x);
@@ -167,6 +172,8 @@ mod tests {
             m.drift(&mut p, &mut rng, &b);
             assert!(p.x >= Q16::ZERO && p.x <= Q16::from_int(9));
             assert!(p.y >= Q16::ZERO && p.y <= Q16::from_int(7));
+            // A quarter of the larger side: 2 px/frame.
+            assert!(p.vx.abs() <= Q16::from_int(2) && p.vy.abs() <= Q16::from_int(2));
         }
     }
 
