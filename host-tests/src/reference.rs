@@ -476,7 +476,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             let y_before = p.y;
             self.drift(&mut p, bounds);
             match self.config.variant {
-                Variant::ColourPf => self.scale_randomly(&mut p, searching, bounds),
+                Variant::ColourPf => self.scale_randomly(&mut p, bounds),
                 Variant::Rbpf => {
                     if searching {
                         (p.leaf[1], p.leaf[3]) = (0.0, 0.0);
@@ -510,13 +510,8 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         p.y = (p.y + p.vy + self.gaussian(sigma)).clamp(0.0, bounds.max_y);
     }
 
-    fn scale_randomly(&mut self, p: &mut RefParticle, searching: bool, bounds: &Bounds) {
-        let sigma = if searching {
-            0.0
-        } else {
-            self.config.scale_noise.to_f64()
-        };
-        let factor = 1.0 + self.gaussian(sigma);
+    fn scale_randomly(&mut self, p: &mut RefParticle, bounds: &Bounds) {
+        let factor = 1.0 + self.gaussian(self.config.scale_noise.to_f64());
         (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0] * factor, p.leaf[2] * factor);
     }
 

@@ -326,9 +326,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         if searching {
             self.redetect(bounds);
         }
-        // While searching, sizes do not wander: the colour PF's stay put, the RBPF's follow
-        // the ground plane only (rates held at zero), as they were when the target was seen.
-        let size_noise = if searching {
+        // While searching, RBPF sizes follow the ground plane only (rates held at zero), so
+        // they cannot drift away from what the rows predict before the target is found.
+        let rate_noise = if searching {
             Q16::ZERO
         } else {
             self.config.scale_noise
@@ -344,13 +344,13 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             let y_before = p.y;
             motion.drift(p, rng, bounds);
             match self.config.variant {
-                Variant::ColourPf => scale_randomly(p, size_noise, rng, bounds),
+                Variant::ColourPf => scale_randomly(p, self.config.scale_noise, rng, bounds),
                 Variant::Rbpf => {
                     if searching {
                         (p.leaf[1], p.leaf[3]) = (Q16::ZERO, Q16::ZERO);
                     }
                     let dy = p.y - y_before;
-                    predict_leaf(p, dy, self.config.scale_per_row, size_noise, rng, bounds)
+                    predict_leaf(p, dy, self.config.scale_per_row, rate_noise, rng, bounds)
                 }
             }
         }
