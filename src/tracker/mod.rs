@@ -73,7 +73,9 @@ use crate::image::{Binning, ImageView, PixelFormat};
 use crate::kalman::{BlockNoise, SharedCovariance, Sym2};
 use crate::likelihood::exp_neg;
 use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
-use crate::resample::{effective_sample_size, normalise, resample, Normalised, WEIGHT_TOTAL};
+use crate::resample::{
+    effective_sample_size_at_least, normalise, resample, Normalised, WEIGHT_TOTAL,
+};
 use crate::rng::Rng;
 use crate::window::Ellipse;
 use config::Derived;
@@ -530,7 +532,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     fn resample_if_degenerate(&mut self) {
         let threshold = self.config.resample_below.mul_int(N as i32);
         self.resampled = false;
-        if effective_sample_size(&self.weights) >= threshold {
+        if effective_sample_size_at_least(&self.weights, threshold) {
             return;
         }
         let scheme = self.config.resampling;
