@@ -18,7 +18,8 @@
 //!
 //! Luma is BT.601 full range: `Y = (77 R + 150 G + 29 B + 128) >> 8` (0..=255, white is
 //! 255); for [`Yuv422`] it is the Y byte. RGB565 channels widen to 8 bits by bit
-//! replication (`r8 = r5 << 3 | r5 >> 2`).
+//! replication (`r8 = r5 << 3 | r5 >> 2`); the luma of an RGB565 pixel is read from two
+//! 256-entry tables indexed by its two bytes ([`rgb565_luma`], the same value).
 //!
 //! # Colour bins
 //! A [`Binning`] is a sealed marker type that maps any pixel format to a bin index in
@@ -111,6 +112,45 @@ pub const fn rgb565_to_rgb888(v: u16) -> (u8, u8, u8) {
         (g6 << 2) | (g6 >> 4),
         (b5 << 3) | (b5 >> 2),
     )
+}
+
+/// Luma sums of an RGB565 word's high byte (`RRRRRGGG`): `77 R8 + 150 G8_hi + 128`,
+/// where `G8 = G8_hi + G8_lo` splits the widened green into the part from the high byte's
+/// three green bits (`g << 5 | g >> 1`) and the part from the low byte's (`g << 2`): their
+/// bits do not overlap, so the bit replication is a sum.
+const RGB565_LUMA_HI: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        let r5 = (i >> 3) as u32;
+        let g3 = (i & 7) as u32;
+        let r8 = (r5 << 3) | (r5 >> 2);
+        t[i] = (77 * r8 + 150 * ((g3 << 5) | (g3 >> 1)) + 128) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// Luma sums of an RGB565 word's low byte (`GGGBBBBB`): `150 G8_lo + 29 B8`.
+const RGB565_LUMA_LO: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        let g3 = (i >> 5) as u32;
+        let b5 = (i & 31) as u32;
+        let b8 = (b5 << 3) | (b5 >> 2);
+        t[i] = (150 * (g3 << 2) + 29 * b8) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// BT.601 full-range luma of an RGB565 word given as its high and low bytes: the same
+/// value as [`luma_of_rgb`] of [`rgb565_to_rgb888`], by two table look-ups (1 KiB of
+/// tables) instead of widening and three multiplies.
+#[inline(always)]
+pub fn rgb565_luma(hi: u8, lo: u8) -> u8 {
+    ((RGB565_LUMA_HI[hi as usize] as u32 + RGB565_LUMA_LO[lo as usize] as u32) >> 8) as u8
 }
 
 /// BT.601 full-range (JFIF) YUV of 8-bit RGB; U and V are centred on 128, all 0..=255.
@@ -341,8 +381,10 @@ impl PixelFormat for Rgb565Le {
     const PAIRED: bool = false;
     #[inline(always)]
     fn luma_at(row: &[u8], x: usize) -> u8 {
-        let (r, g, b) = rgb565_to_rgb888(rgb565_word(row, x, false));
-        luma_of_rgb(r, g, b)
+        match row.get(2 * x..2 * x + 2) {
+            Some(&[lo, hi]) => rgb565_luma(hi, lo),
+            _ => 0,
+        }
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
@@ -355,8 +397,10 @@ impl PixelFormat for Rgb565Be {
     const PAIRED: bool = false;
     #[inline(always)]
     fn luma_at(row: &[u8], x: usize) -> u8 {
-        let (r, g, b) = rgb565_to_rgb888(rgb565_word(row, x, true));
-        luma_of_rgb(r, g, b)
+        match row.get(2 * x..2 * x + 2) {
+            Some(&[hi, lo]) => rgb565_luma(hi, lo),
+            _ => 0,
+        }
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
@@ -707,6 +751,8 @@ mod tests {
     fn rgb565_bins_equal_widened_rgb888_bins() {
         for v in 0..=u16::MAX {
             let (r, g, b) = rgb565_to_rgb888(v);
+            let [hi, lo] = v.to_be_bytes();
+            assert_eq!(rgb565_luma(hi, lo), luma_of_rgb(r, g, b), "{v:#06x}");
             assert_eq!(Rgb8x8x8::from_rgb565(v), Rgb8x8x8::from_rgb888(r, g, b));
             assert_eq!(Rgb8x8x4::from_rgb565(v), Rgb8x8x4::from_rgb888(r, g, b));
             assert!((Rgb8x8x8::from_rgb565(v) as usize) < Rgb8x8x8::BINS);
