@@ -87,6 +87,18 @@ pub fn sqrt_q8(n: u32) -> u32 {
     (lo + (((hi - lo) * frac) >> 16)) >> (shift / 2)
 }
 
+/// `floor(sqrt(n))`, exactly, for any `n < 2^31`: [`sqrt_q8`] (never above the exact
+/// root, at most a unit below it) corrected upwards; no bit-by-bit loop.
+#[inline]
+pub fn isqrt32(n: u32) -> u32 {
+    let n = n.min(i32::MAX as u32);
+    let mut m = sqrt_q8(n) >> 8;
+    while (m + 1) * (m + 1) <= n {
+        m += 1;
+    }
+    m
+}
+
 /// Adds `weight` to `counts[bin]` (saturating), listing `bin` in `touched` when its count
 /// leaves zero; returns whether `bin < B`.
 #[inline(always)]
@@ -185,7 +197,8 @@ impl<const B: usize> Histogram<B> {
         self.accumulate::<Bn, P>(img, e, cap)
     }
 
-    /// [`Histogram::fill`] without clearing first (the mass saturates at `u32::MAX`).
+    /// [`Histogram::fill`] without clearing first (counts and the mass saturate at
+    /// `u32::MAX`).
     #[inline]
     pub fn accumulate<Bn: Binning, P: PixelFormat>(
         &mut self,
@@ -418,6 +431,23 @@ mod tests {
         assert!(worst < 8e-6, "relative error {worst}");
         assert_eq!(sqrt_q8(1), 256);
         assert_eq!(sqrt_q8(65536), 65536);
+    }
+
+    #[test]
+    fn isqrt32_is_exact() {
+        let mut r = Rng::new(4);
+        for n in (0..1u32 << 20).chain((0..1_000_000).map(|_| r.next_u32() >> 1)) {
+            assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
+        for n in [
+            i32::MAX as u32,
+            (1 << 30) - 1,
+            1 << 30,
+            46_340 * 46_340,
+            46_341 * 46_341 - 1,
+        ] {
+            assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
     }
 
     #[test]

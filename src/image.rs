@@ -318,7 +318,14 @@ pub trait PixelFormat: private::Sealed + Copy + core::fmt::Debug + 'static {
     /// Whether width and stride must be even.
     const PAIRED: bool;
     /// Luma (0..=255) of pixel `x` (px) of `row`; 0 past its end.
-    fn luma_at(row: &[u8], x: usize) -> u8;
+    #[inline(always)]
+    fn luma_at(row: &[u8], x: usize) -> u8 {
+        Self::luma_at_byte(row, x.wrapping_mul(Self::BYTES_PER_PIXEL))
+    }
+    /// Luma (0..=255) of the pixel whose bytes start at `index` of `bytes` (`x *
+    /// BYTES_PER_PIXEL` into a row, or that plus whole rows into a frame; for [`Yuv422`],
+    /// `2 x`); 0 past the end.
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8;
     /// Bin (`0..Bn::BINS`) of pixel `x` (px) of `row`; 0 past its end.
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16;
 }
@@ -358,8 +365,8 @@ impl PixelFormat for Gray8 {
     const BYTES_PER_PIXEL: usize = 1;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        row.get(x).copied().unwrap_or(0)
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        bytes.get(index).copied().unwrap_or(0)
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
@@ -380,9 +387,9 @@ impl PixelFormat for Rgb565Le {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        match row.get(2 * x..2 * x + 2) {
-            Some(&[lo, hi]) => rgb565_luma(hi, lo),
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        match (bytes.get(index), bytes.get(index.wrapping_add(1))) {
+            (Some(&lo), Some(&hi)) => rgb565_luma(hi, lo),
             _ => 0,
         }
     }
@@ -396,9 +403,9 @@ impl PixelFormat for Rgb565Be {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        match row.get(2 * x..2 * x + 2) {
-            Some(&[hi, lo]) => rgb565_luma(hi, lo),
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        match (bytes.get(index), bytes.get(index.wrapping_add(1))) {
+            (Some(&hi), Some(&lo)) => rgb565_luma(hi, lo),
             _ => 0,
         }
     }
@@ -412,9 +419,13 @@ impl PixelFormat for Rgb888 {
     const BYTES_PER_PIXEL: usize = 3;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        match row.get(3 * x..3 * x + 3) {
-            Some(&[r, g, b]) => luma_of_rgb(r, g, b),
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        match (
+            bytes.get(index),
+            bytes.get(index.wrapping_add(1)),
+            bytes.get(index.wrapping_add(2)),
+        ) {
+            (Some(&r), Some(&g), Some(&b)) => luma_of_rgb(r, g, b),
             _ => 0,
         }
     }
@@ -431,8 +442,8 @@ impl PixelFormat for Yuv422 {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = true;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        row.get(2 * x).copied().unwrap_or(0)
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        bytes.get(index).copied().unwrap_or(0)
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
