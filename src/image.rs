@@ -328,6 +328,81 @@ pub trait PixelFormat: private::Sealed + Copy + core::fmt::Debug + 'static {
     fn luma_at_byte(bytes: &[u8], index: usize) -> u8;
     /// Bin (`0..Bn::BINS`) of pixel `x` (px) of `row`; 0 past its end.
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16;
+    /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` of `row` (px,
+    /// `step >= 1`), left to right, as [`PixelFormat::bin_at`] would give them; the
+    /// fixed-size formats read them without a bounds check per pixel.
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        mut f: impl FnMut(u16),
+    ) {
+        let mut x = x0;
+        for _ in 0..count {
+            f(Self::bin_at::<Bn>(row, x));
+            x = x.wrapping_add(step);
+        }
+    }
+}
+
+/// [`PixelFormat::for_each_bin`] for a format of `BPP` bytes per pixel, `bin` giving a
+/// pixel's bin from its bytes: one bounds check per run, then fixed-size chunks.
+#[inline(always)]
+fn bins_of_run<const BPP: usize>(
+    row: &[u8],
+    x0: usize,
+    step: usize,
+    count: u32,
+    bin: impl Fn(&[u8; BPP]) -> u16,
+    mut f: impl FnMut(u16),
+) {
+    let Some(last) = (count as usize).checked_sub(1) else {
+        return;
+    };
+    let stride = step.max(1) * BPP; // >= BPP
+    let start = x0.saturating_mul(BPP);
+    // First byte of the first pixel to the last byte of the last one.
+    let run = last
+        .checked_mul(stride)
+        .and_then(|len| start.checked_add(len))
+        .and_then(|tail| row.get(start..tail.checked_add(BPP)?));
+    match run {
+        // Consecutive pixels (every window below the pixel cap): chunks of a constant
+        // size, no division to set them up.
+        Some(run) if step == 1 => {
+            for chunk in run.chunks_exact(BPP) {
+                if let Some(px) = chunk.first_chunk::<BPP>() {
+                    f(bin(px));
+                }
+            }
+        }
+        Some(run) => {
+            let (body, tail) = run.split_at(last * stride);
+            for chunk in body.chunks_exact(stride) {
+                if let Some(px) = chunk.first_chunk::<BPP>() {
+                    f(bin(px));
+                }
+            }
+            if let Some(px) = tail.first_chunk::<BPP>() {
+                f(bin(px));
+            }
+        }
+        // Partly past the row's end (never for the windows of `crate::window`): one by
+        // one, bin 0 past the end.
+        None => {
+            let mut x = x0;
+            for _ in 0..count {
+                let px = x
+                    .checked_mul(BPP)
+                    .and_then(|i| row.get(i..))
+                    .and_then(|r| r.first_chunk::<BPP>());
+                f(px.map_or(0, &bin));
+                x = x.wrapping_add(step);
+            }
+        }
+    }
 }
 
 /// 8-bit grey.
@@ -372,6 +447,16 @@ impl PixelFormat for Gray8 {
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         Bn::from_luma(Self::luma_at(row, x))
     }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<1>(row, x0, step, count, |&[y]| Bn::from_luma(y), f)
+    }
 }
 
 #[inline(always)]
@@ -397,6 +482,23 @@ impl PixelFormat for Rgb565Le {
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         Bn::from_rgb565(rgb565_word(row, x, false))
     }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<2>(
+            row,
+            x0,
+            step,
+            count,
+            |&px| Bn::from_rgb565(u16::from_le_bytes(px)),
+            f,
+        )
+    }
 }
 
 impl PixelFormat for Rgb565Be {
@@ -412,6 +514,23 @@ impl PixelFormat for Rgb565Be {
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         Bn::from_rgb565(rgb565_word(row, x, true))
+    }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<2>(
+            row,
+            x0,
+            step,
+            count,
+            |&px| Bn::from_rgb565(u16::from_be_bytes(px)),
+            f,
+        )
     }
 }
 
@@ -435,6 +554,23 @@ impl PixelFormat for Rgb888 {
             Some(&[r, g, b]) => Bn::from_rgb888(r, g, b),
             _ => 0,
         }
+    }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<3>(
+            row,
+            x0,
+            step,
+            count,
+            |&[r, g, b]| Bn::from_rgb888(r, g, b),
+            f,
+        )
     }
 }
 
@@ -629,6 +765,19 @@ impl<'a, P: PixelFormat> Row<'a, P> {
     pub fn bin<Bn: Binning>(&self, x: usize) -> u16 {
         P::bin_at::<Bn>(self.bytes, x)
     }
+
+    /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` (px, `step >= 1`), left
+    /// to right; pixels past the row's end give bin 0.
+    #[inline(always)]
+    pub fn for_each_bin<Bn: Binning>(
+        &self,
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        P::for_each_bin::<Bn>(self.bytes, x0, step, count, f)
+    }
 }
 
 #[cfg(test)]
@@ -756,6 +905,40 @@ mod tests {
         // B = 235 + ((50848+128)>>8) = 434 -> 255.
         assert_eq!(yuv_to_rgb(235, 240, 16), (78, 255, 255));
         assert_eq!(img.bin::<Rgb8x8x8>(1, 0), (2 << 6) | (7 << 3) | 7);
+    }
+
+    /// Runs of bins equal the bins one by one, every format, every step, at and past the
+    /// row's end.
+    #[test]
+    fn runs_of_bins_equal_single_bins() {
+        fn check<P: PixelFormat>(bytes_per_px: usize) {
+            extern crate std;
+            use std::vec::Vec;
+            let mut r = crate::rng::Rng::new(2);
+            let (w, h) = (14usize, 3usize);
+            let buf: Vec<u8> = (0..w * h * bytes_per_px)
+                .map(|_| r.next_u32() as u8)
+                .collect();
+            let img = ImageView::<P>::new(&buf, w, h, w).unwrap();
+            let row = img.row(1);
+            for x0 in 0..w + 2 {
+                for step in 1..6 {
+                    for count in 0..8u32 {
+                        let mut got = Vec::new();
+                        row.for_each_bin::<Rgb8x8x8>(x0, step, count, |b| got.push(b));
+                        let want: Vec<u16> = (0..count as usize)
+                            .map(|k| row.bin::<Rgb8x8x8>(x0 + k * step))
+                            .collect();
+                        assert_eq!(got, want, "x0 {x0} step {step} count {count}");
+                    }
+                }
+            }
+        }
+        check::<Gray8>(1);
+        check::<Rgb565Le>(2);
+        check::<Rgb565Be>(2);
+        check::<Rgb888>(3);
+        check::<Yuv422>(2);
     }
 
     #[test]

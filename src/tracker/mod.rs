@@ -117,7 +117,7 @@ pub struct Estimate {
 ///
 /// Its RAM is its `size_of`, all inline: 40 bytes per particle (state, weight, resampling
 /// scratch), about 14 bytes per bin (model, histogram, touched-bin list) and under 1 KiB
-/// more. With 512 bins: 9,976 bytes at N = 50, 11,976 at N = 100, 15,976 at N = 200 on
+/// more. With 512 bins: 9,984 bytes at N = 50, 11,984 at N = 100, 15,984 at N = 200 on
 /// x86-64 (pinned by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
