@@ -191,73 +191,303 @@ impl GradientCue {
     /// clamping), per point a table square root and two 32-bit divisions for the unit
     /// normal and at most one table square root for the magnitude; no 64-bit division.
     pub fn evaluate<P: PixelFormat>(&self, img: &ImageView<'_, P>, e: &Ellipse) -> Q16 {
-        self.evaluate_with::<P, false>(img, e)
+        let mut sampler = Direct::<false>;
+        let taps = Taps::new(img);
+        let sum =
+            (0..self.points).fold(0, |sum, k| sum + self.point(img, &taps, e, k, &mut sampler));
+        self.mean(sum)
     }
 
-    /// [`GradientCue::evaluate`]; with `CLAMPED` every sample goes through the clamping
-    /// [`gradient_sq`] (the tests compare the two).
-    #[inline(always)]
-    fn evaluate_with<P: PixelFormat, const CLAMPED: bool>(
+    /// [`GradientCue::evaluate`] reading gradients through `memo` (the same value: the memo
+    /// only saves recomputing a gradient at a pixel it already holds for this frame).
+    /// Call [`GradientMemo::start_frame`] before the first window of every new frame.
+    pub fn evaluate_memo<P: PixelFormat>(
         &self,
         img: &ImageView<'_, P>,
         e: &Ellipse,
+        memo: &mut GradientMemo,
     ) -> Q16 {
-        if !e.is_visitable() {
-            return Q16::ZERO;
+        if !self.memo_serves(memo, img) {
+            return self.evaluate(img, e);
         }
+        let mut sampler = Memoised::new(memo, img);
+        let taps = Taps::new(img);
+        let sum =
+            (0..self.points).fold(0, |sum, k| sum + self.point(img, &taps, e, k, &mut sampler));
+        self.mean(sum)
+    }
+
+    /// The cue of every window `ellipse(i)`, `i < out.len()`, into `out[i]`: the values of
+    /// [`GradientCue::evaluate`], computed boundary point by boundary point across all the
+    /// windows, so that the windows' samples of one point, which lie close together when
+    /// the windows do (a particle cloud), meet in `memo` and each pixel's gradient is
+    /// computed about once. Call [`GradientMemo::start_frame`] before the first window of
+    /// every new frame.
+    pub fn evaluate_each<P: PixelFormat>(
+        &self,
+        img: &ImageView<'_, P>,
+        ellipse: impl Fn(usize) -> Ellipse,
+        out: &mut [Q16],
+        memo: &mut GradientMemo,
+    ) {
+        // The sums (< 2^22) accumulate in `out`, then become the means.
+        out.iter_mut().for_each(|g| *g = Q16::ZERO);
+        let taps = Taps::new(img);
+        if self.memo_serves(memo, img) {
+            let mut sampler = Memoised::new(memo, img);
+            for k in 0..self.points {
+                for (i, g) in out.iter_mut().enumerate() {
+                    let term = self.point(img, &taps, &ellipse(i), k, &mut sampler);
+                    *g = Q16::from_bits(g.to_bits().wrapping_add(term as i32));
+                }
+            }
+        } else {
+            for (i, g) in out.iter_mut().enumerate() {
+                *g = self.evaluate(img, &ellipse(i));
+            }
+            return;
+        }
+        for g in out.iter_mut() {
+            *g = self.mean(g.to_bits() as u32);
+        }
+    }
+
+    /// `g = sum / (K sat)`, rounded, by the reciprocal tabulated at construction:
+    /// `sum <= K sat`, so `sum * recip <= 2^48`.
+    #[inline(always)]
+    fn mean(&self, sum: u32) -> Q16 {
+        let g = (sum as u64 * self.recip + (1 << 31)) >> 32;
+        Q16::from_bits(g.min(1 << 16) as i32)
+    }
+
+    /// Boundary point `k`'s term of `e`'s cue, `min(m_k, saturation)` in 1/32 units (0
+    /// for a degenerate ellipse or a point whose segment misses the frame), its
+    /// gradients read through `sampler`.
+    #[inline(always)]
+    fn point<P: PixelFormat, S: Sampler<P>>(
+        &self,
+        img: &ImageView<'_, P>,
+        taps: &Taps<'_, P>,
+        e: &Ellipse,
+        k: usize,
+        sampler: &mut S,
+    ) -> u32 {
+        if !e.is_visitable() {
+            return 0;
+        }
+        let (Some(&c), Some(&s)) = (self.cos.get(k), self.sin.get(k)) else {
+            return 0;
+        };
+        let (c, s) = (c.to_bits(), s.to_bits());
         let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
         let (hx, hy) = (e.hx.to_bits(), e.hy.to_bits()); // 2^15..2^31
         let (w, h) = (img.width() as i64, img.height() as i64);
-        let taps = Taps::new(img);
         let search = self.search;
         let reach = (search as i64 + 1) << 16; // beyond the search segment, px Q16
-        let sat = self.saturation << MAG_FRAC_BITS;
-        let sat_sq = self.saturation * self.saturation;
-        let mut sum = 0u32; // <= K sat <= 64 * 1082 * 32 < 2^22
-        for (&c, &s) in self.cos.iter().zip(self.sin.iter()).take(self.points) {
-            let (c, s) = (c.to_bits(), s.to_bits());
-            let bx = cx + ((hx as i64 * c as i64) >> 16);
-            let by = cy + ((hy as i64 * s as i64) >> 16);
-            // A segment wholly outside the frame has no sample in it (and this keeps the
-            // positions below in i32).
-            if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
-                continue;
-            }
-            let (bx, by) = (bx as i32, by as i32);
-            // The normal at angle t is along (cos t / hx, sin t / hy) ~ (cos t hy, sin t hx).
-            let (ux, uy) = unit_normal(c as i64 * hy as i64, s as i64 * hx as i64, c, s);
-            let at = |j: i32| ((bx + j * ux + 0x8000) >> 16, (by + j * uy + 0x8000) >> 16);
-            // Positions are monotone in j, so the two ends bound the segment.
-            let ((x0, y0), (x1, y1)) = (at(-search), at(search));
-            let mut best = 0u32;
-            if !CLAMPED
-                && taps.interior(x0.min(x1), y0.min(y1))
-                && taps.interior(x0.max(x1), y0.max(y1))
-            {
-                for j in -search..=search {
-                    let (x, y) = at(j);
-                    best = best.max(taps.gradient_sq(x as usize, y as usize));
-                }
-            } else {
-                for j in -search..=search {
-                    let (x, y) = at(j);
-                    if (0..w as i32).contains(&x) && (0..h as i32).contains(&y) {
-                        best = best.max(gradient_sq(img, x, y));
-                    }
-                }
-            }
-            // min(sqrt(best), saturation) to 1/32: saturated points need no square root;
-            // below, best < 1082^2 < 2^21.
-            sum += if best >= sat_sq {
-                sat
-            } else {
-                magnitude(best).min(sat)
-            };
+        let bx = cx + ((hx as i64 * c as i64) >> 16);
+        let by = cy + ((hy as i64 * s as i64) >> 16);
+        // A segment wholly outside the frame has no sample in it (and this keeps the
+        // positions below in i32).
+        if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
+            return 0;
         }
-        // g = sum / (K sat), rounded, by the reciprocal tabulated at construction:
-        // sum <= K sat, so sum * recip <= 2^48.
-        let g = (sum as u64 * self.recip + (1 << 31)) >> 32;
-        Q16::from_bits(g.min(1 << 16) as i32)
+        let (bx, by) = (bx as i32, by as i32);
+        // The normal at angle t is along (cos t / hx, sin t / hy) ~ (cos t hy, sin t hx).
+        let (ux, uy) = unit_normal(c as i64 * hy as i64, s as i64 * hx as i64, c, s);
+        let at = |j: i32| ((bx + j * ux + 0x8000) >> 16, (by + j * uy + 0x8000) >> 16);
+        // Positions are monotone in j, so the two ends bound the segment.
+        let ((x0, y0), (x1, y1)) = (at(-search), at(search));
+        let mut best = 0u32;
+        if taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1)) {
+            for j in -search..=search {
+                let (x, y) = at(j);
+                best = best.max(sampler.interior(taps, x, y));
+            }
+        } else {
+            for j in -search..=search {
+                let (x, y) = at(j);
+                if (0..w as i32).contains(&x) && (0..h as i32).contains(&y) {
+                    best = best.max(sampler.clamped(img, x, y));
+                }
+            }
+        }
+        // min(sqrt(best), saturation) to 1/32: saturated points need no square root;
+        // below, best < 1082^2 < 2^21.
+        let sat = self.saturation << MAG_FRAC_BITS;
+        if best >= self.saturation * self.saturation {
+            sat
+        } else {
+            magnitude(best).min(sat)
+        }
+    }
+}
+
+/// Where [`GradientCue`] gets a squared gradient magnitude at an in-frame pixel.
+trait Sampler<P: PixelFormat> {
+    /// At `(x, y)`, all of whose taps are inside the frame ([`Taps::interior`]).
+    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32;
+    /// At `(x, y)` in the frame, taps clamped.
+    fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32;
+}
+
+/// Computes every gradient; `CLAMPED` also the interior ones through the clamping path
+/// (the tests compare the two).
+struct Direct<const CLAMPED: bool>;
+
+impl<P: PixelFormat, const CLAMPED: bool> Sampler<P> for Direct<CLAMPED> {
+    #[inline(always)]
+    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
+        if CLAMPED {
+            return gradient_sq(&taps.img, x, y);
+        }
+        taps.gradient_sq(x as usize, y as usize)
+    }
+    #[inline(always)]
+    fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
+        gradient_sq(img, x, y)
+    }
+}
+
+/// Slots of a [`GradientMemo`].
+pub const MEMO_SLOTS: usize = 1024;
+
+/// A per-frame memo of squared gradient magnitudes for [`GradientCue::evaluate_memo`] and
+/// [`GradientCue::evaluate_each`]: [`MEMO_SLOTS`] direct-mapped slots keyed by pixel
+/// (slot `(x + 41 y) mod 1024`), each holding the pixel's index in the frame tagged with
+/// an 8-bit frame generation and `min(gx^2 + gy^2, 65535)` (exact for the cue whenever
+/// the saturation is at most 255, whose square fits: larger squares all score the
+/// saturation). A look-up is a hash, a load and a compare; a miss computes the gradient
+/// and replaces the slot's entry. Values are only ever read back for the same pixel of
+/// the same generation, so results never depend on the memo. 6 KiB; frames of `2^24`
+/// pixels or more, and saturations above 255, bypass it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GradientMemo {
+    /// `generation << 24 | (y width + x)`; never matches while the slot is empty (tags
+    /// start at generation 1).
+    keys: [u32; MEMO_SLOTS],
+    values: [u16; MEMO_SLOTS],
+    /// The current generation in the top 8 bits (`1..=255`).
+    tag: u32,
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for GradientMemo {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(f, "GradientMemo {{ generation: {} }}", self.tag >> 24)
+    }
+}
+
+impl Default for GradientMemo {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl GradientMemo {
+    /// An empty memo.
+    pub const fn new() -> Self {
+        Self {
+            keys: [0; MEMO_SLOTS],
+            values: [0; MEMO_SLOTS],
+            tag: 1 << 24,
+        }
+    }
+
+    /// Forgets every entry (in constant time, by moving to the next generation; every
+    /// 255 frames the slots are cleared). Call it whenever the frame changes.
+    pub fn start_frame(&mut self) {
+        self.tag = self.tag.wrapping_add(1 << 24);
+        if self.tag == 0 {
+            self.keys = [0; MEMO_SLOTS];
+            self.tag = 1 << 24;
+        }
+    }
+
+    /// Whether frames of this size fit the 24-bit pixel index.
+    fn serves<P: PixelFormat>(&self, img: &ImageView<'_, P>) -> bool {
+        img.width() * img.height() < 1 << 24
+    }
+}
+
+impl GradientCue {
+    /// Whether `memo` can serve this cue on `img` (frame below `2^24` pixels, saturation
+    /// squared below `2^16`).
+    fn memo_serves<P: PixelFormat>(&self, memo: &GradientMemo, img: &ImageView<'_, P>) -> bool {
+        memo.serves(img) && self.saturation <= 255
+    }
+}
+
+/// Reads gradients through a [`GradientMemo`].
+struct Memoised<'m> {
+    memo: &'m mut GradientMemo,
+    width: u32,
+}
+
+impl<'m> Memoised<'m> {
+    fn new<P: PixelFormat>(memo: &'m mut GradientMemo, img: &ImageView<'_, P>) -> Self {
+        Self {
+            memo,
+            width: img.width() as u32,
+        }
+    }
+
+    /// The slot of in-frame pixel `(x, y)` and its key.
+    #[inline(always)]
+    fn slot(&self, x: i32, y: i32) -> (usize, u32) {
+        let (x, y) = (x as u32, y as u32);
+        // y width + x < 2^24 for the frames the memo serves.
+        let key = self.memo.tag | (y.wrapping_mul(self.width).wrapping_add(x) & 0xFF_FFFF);
+        let slot = (x.wrapping_add(y.wrapping_mul(41)) as usize) & (MEMO_SLOTS - 1);
+        (slot, key)
+    }
+
+    /// The memo's value in `slot` if it is `key`'s.
+    #[inline(always)]
+    fn hit(&self, slot: usize, key: u32) -> Option<u32> {
+        let slot = slot & (MEMO_SLOTS - 1);
+        (self.memo.keys[slot] == key).then(|| self.memo.values[slot] as u32)
+    }
+
+    /// Stores `value`, saturated to 16 bits, for `key` in `slot`; returns the stored value.
+    #[inline(always)]
+    fn store(&mut self, slot: usize, key: u32, value: u32) -> u32 {
+        let slot = slot & (MEMO_SLOTS - 1);
+        let value = value.min(u16::MAX as u32);
+        self.memo.keys[slot] = key;
+        self.memo.values[slot] = value as u16;
+        value
+    }
+}
+
+/// `taps.gradient_sq(x, y)` out of line: the memo's miss path, kept out of the look-up
+/// loop so that its registers stay free.
+#[inline(never)]
+fn interior_miss<P: PixelFormat>(taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
+    taps.gradient_sq(x as usize, y as usize)
+}
+
+/// [`gradient_sq`] out of line (the memo's miss path at the frame border).
+#[inline(never)]
+fn clamped_miss<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
+    gradient_sq(img, x, y)
+}
+
+impl<P: PixelFormat> Sampler<P> for Memoised<'_> {
+    #[inline(always)]
+    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
+        let (slot, key) = self.slot(x, y);
+        match self.hit(slot, key) {
+            Some(value) => value,
+            None => self.store(slot, key, interior_miss(taps, x, y)),
+        }
+    }
+    #[inline(always)]
+    fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
+        let (slot, key) = self.slot(x, y);
+        match self.hit(slot, key) {
+            Some(value) => value,
+            None => self.store(slot, key, clamped_miss(img, x, y)),
+        }
     }
 }
 
@@ -290,6 +520,7 @@ fn unit_normal(nx: i64, ny: i64, c: i32, s: i32) -> (i32, i32) {
 
 /// Unclamped 5-tap gradients of a frame's interior.
 struct Taps<'a, P: PixelFormat> {
+    img: ImageView<'a, P>,
     bytes: &'a [u8],
     row: usize,
     width: i32,
@@ -300,6 +531,7 @@ struct Taps<'a, P: PixelFormat> {
 impl<'a, P: PixelFormat> Taps<'a, P> {
     fn new(img: &ImageView<'a, P>) -> Self {
         Self {
+            img: *img,
             bytes: img.as_bytes(),
             row: img.stride() * P::BYTES_PER_PIXEL,
             width: img.width() as i32,
@@ -587,11 +819,54 @@ mod tests {
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
             );
-            assert_eq!(
-                c.evaluate(&img, &e),
-                c.evaluate_with::<_, true>(&img, &e),
-                "window {i}: {e:?}"
-            );
+            let mut clamped = Direct::<true>;
+            let taps = Taps::new(&img);
+            let sum =
+                (0..c.points).fold(0, |sum, k| sum + c.point(&img, &taps, &e, k, &mut clamped));
+            assert_eq!(c.evaluate(&img, &e), c.mean(sum), "window {i}: {e:?}");
+        }
+    }
+
+    /// The memo never changes a result: `evaluate_memo` and `evaluate_each` equal
+    /// `evaluate` window by window, over frames that change pixel values at the same
+    /// places (the memo must forget them), change size, and wrap the generation.
+    #[test]
+    fn memo_gives_the_direct_cue() {
+        let mut rng = crate::rng::Rng::new(17);
+        let mut memo = GradientMemo::new();
+        for frame in 0..300 {
+            let (w, h) = if frame % 7 == 3 {
+                (23usize, 61usize)
+            } else {
+                (64, 48)
+            };
+            let buf: Vec<u8> = (0..w * h * 2).map(|_| (rng.below(4) * 60) as u8).collect();
+            let img = ImageView::<Rgb565Le>::new(&buf, w, h, w).unwrap();
+            memo.start_frame();
+            let mut config = GradientConfig::new();
+            config.points = 1 + rng.below(40) as usize;
+            config.search_px = rng.below(6);
+            config.saturation = [192, 40, 255, 256, 700][frame % 5];
+            let c = GradientCue::new(&config).unwrap();
+            // A cloud of windows around one ellipse, some across the border.
+            let (cx, cy) = (rng.below(70) as f64 - 3.0, rng.below(55) as f64 - 3.0);
+            let windows: Vec<Ellipse> = (0..12)
+                .map(|_| {
+                    ellipse(
+                        cx + 6.0 * rng.uniform().to_f64() - 3.0,
+                        cy + 6.0 * rng.uniform().to_f64() - 3.0,
+                        0.4 + 15.0 * rng.uniform().to_f64(),
+                        0.4 + 15.0 * rng.uniform().to_f64(),
+                    )
+                })
+                .collect();
+            let direct: Vec<Q16> = windows.iter().map(|e| c.evaluate(&img, e)).collect();
+            let mut each = vec![Q16::MAX; windows.len()];
+            c.evaluate_each(&img, |i| windows[i], &mut each, &mut memo);
+            assert_eq!(each, direct, "frame {frame}");
+            for (e, &d) in windows.iter().zip(&direct) {
+                assert_eq!(c.evaluate_memo(&img, e, &mut memo), d, "frame {frame}");
+            }
         }
     }
 
