@@ -28,7 +28,9 @@
 //! # Bounded work
 //! A step visits at most `(N + 6) * pixels_per_window` pixels: `N` particle windows, one
 //! estimate window and, for the RBPF, five scale windows; the RBPF's gradient cue reads
-//! `(N + 5) * gradient_points * (2 * gradient_search + 1)` 5-tap gradients on top.
+//! `(N + 5) * gradient_points * (2 * gradient_search + 1)` 5-tap gradients on top, at
+//! most (the particles' samples of one boundary point repeat pixels, and each pixel's
+//! gradient is computed once per frame while it stays in the memo).
 //! [`Tracker::pixels_visited`] reports the figure of the last step.
 //!
 //! # Examples
