@@ -276,7 +276,7 @@ where
     let tc = norm(xc as i64, cx, inv_hx).clamp(-ONE_Q30, ONE_Q30) as i32;
     let mut ty = norm((yc + j_lo * si) as i64, cy, inv_hy).clamp(-ONE_Q30, ONE_Q30) as i32;
     // The half-axis and the centre's offset from the anchor in lattice units, Q16.
-    let ax = hx.checked_div(s).unwrap_or(0) as u64;
+    let ax = hx.checked_div(s).unwrap_or(0).min(1 << 30) as u64;
     let off = ((cx - ((xc as i64) << 16)) as i32)
         .checked_div(si)
         .unwrap_or(0); // |.| < 2^16
@@ -288,8 +288,9 @@ where
         // |y - cy| <= hy, so |ty| <= 1 (the additions drift by at most j units).
         let ry = (((ty as i64 * ty as i64) >> 30) as u32).min(1 << 30); // ty^2, Q2.30
         let root = crate::hist::isqrt32((1 << 30) - ry) as u64; // sqrt(1 - ty^2), Q0.15
-                                                                // Lattice units, Q16; chords longer than any frame (2^14 px) are clipped anyway.
-        let half_chord = ((ax * root) >> 15).min(1 << 30) as i32;
+                                                                // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
+                                                                // anyway.
+        let half_chord = ((ax * root) >> 15) as i32;
         // Lattice points strictly inside the chord (points on the boundary weigh 0).
         let k_lo = (-((half_chord - off - 1) >> 16)).max(k_frame_lo);
         let k_hi = ((off + half_chord - 1) >> 16).min(k_frame_hi);
@@ -297,7 +298,10 @@ where
             let count = ((k_hi - k_lo + 1) as u32).min(limit - visited);
             visited += count;
             let x0 = xc + k_lo * si; // 0..width, inside the chord
-            let t0 = (tc as i64 + k_lo as i64 * dt as i64).clamp(-ONE_Q30, ONE_Q30) as i32;
+                                     // A point inside the chord has |t| < 1. If it is not the anchor's column
+                                     // (k != 0), the step is below 2 (unclamped), so neither k dt nor the sum
+                                     // overflows; for k = 0 the product is 0.
+            let t0 = tc.wrapping_add(k_lo.wrapping_mul(dt));
             f(RowRun {
                 row: img.row(y),
                 x0: x0 as usize,
@@ -378,16 +382,18 @@ mod tests {
         let img = ImageView::<Gray8>::new(&buf, 700, 90, 700).unwrap();
         let mut rng = crate::rng::Rng::new(31);
         let mut worst = 0f64;
-        for i in 0..3000 {
-            let hx = 0.5 + [3.0, 30.0, 340.0][i % 3] * rng.uniform().to_f64();
-            let hy = 0.5 + [3.0, 40.0, 2.0][i % 3] * rng.uniform().to_f64();
+        for i in 0..4000 {
+            // Small, medium, long flat rows, and narrow tall windows whose step exceeds the
+            // half-width (at most two points per row).
+            let hx = 0.5 + [3.0, 30.0, 340.0, 2.0][i % 4] * rng.uniform().to_f64();
+            let hy = 0.5 + [3.0, 40.0, 2.0, 40.0][i % 4] * rng.uniform().to_f64();
             let e = ellipse(
                 350.0 + 10.0 * rng.uniform().to_f64(),
                 45.0 + 4.0 * rng.uniform().to_f64(),
                 hx,
                 hy,
             );
-            let cap = [300, MAX_CAP, 20][i % 3];
+            let cap = [300, MAX_CAP, 20, 4][i % 4];
             let (cx, cy, hx, hy) = (e.cx.to_f64(), e.cy.to_f64(), e.hx.to_f64(), e.hy.to_f64());
             visit(&img, &e, cap, |row, x, w| {
                 let d2 = ((x as f64 - cx) / hx).powi(2) + ((row.y() as f64 - cy) / hy).powi(2);
