@@ -32,7 +32,8 @@ Conventions, the same as `rbtrack eval` (host-tests/src/metrics.rs, sequence.rs)
 - a tracker that reports failure for a frame keeps its last box.
 
 rbtrack's scores come from its JSON; the script recomputes them from its `--boxes` output
-with the metrics below and warns if they differ (a check of this script's metrics).
+(two decimals) with the metrics below and warns if they differ by more than 0.002 (a check
+of this script's metrics; the rounding of the box file moves an AUC by up to ~5e-4).
 """
 
 import argparse
@@ -268,7 +269,9 @@ def main():
         for tracker in ("rbpf", "pf"):
             result, boxes = run_rbtrack(binary, seq, tracker, args)
             auc, prec = scores(truth, boxes)
-            if abs(auc - result["auc"]) > 1e-4 or abs(prec - result["prec20"]) > 1e-4:
+            # The box file has two decimals, so an IoU next to a threshold can land on
+            # either side: allow a little.
+            if abs(auc - result["auc"]) > 2e-3 or abs(prec - result["prec20"]) > 2e-3:
                 print(
                     f"warning: {seq.name} {tracker}: recomputed AUC {auc:.6f} / prec {prec:.6f} "
                     f"differ from rbtrack's {result['auc']:.6f} / {result['prec20']:.6f}",
