@@ -51,7 +51,7 @@
 
 use crate::fixed::Q16;
 use crate::image::{Binning, ImageView, PixelFormat};
-use crate::window::{visit, Ellipse};
+use crate::window::{rows, visit, Ellipse, MAX_CAP};
 
 /// 1.0 in Q0.30, the scale of model probabilities.
 pub const PROB_ONE: u32 = 1 << 30;
@@ -85,6 +85,18 @@ pub fn sqrt_q8(n: u32) -> u32 {
     };
     // hi - lo <= 65231 (at i = 0), so the product stays below 2^32.
     (lo + (((hi - lo) * frac) >> 16)) >> (shift / 2)
+}
+
+/// `floor(sqrt(n))`, exactly, for any `n < 2^31`: [`sqrt_q8`] (never above the exact
+/// root, at most a unit below it) corrected upwards; no bit-by-bit loop.
+#[inline]
+pub fn isqrt32(n: u32) -> u32 {
+    let n = n.min(i32::MAX as u32);
+    let mut m = sqrt_q8(n) >> 8;
+    while (m + 1) * (m + 1) <= n {
+        m += 1;
+    }
+    m
 }
 
 /// Adds `weight` to `counts[bin]` (saturating), listing `bin` in `touched` when its count
@@ -174,6 +186,10 @@ impl<const B: usize> Histogram<B> {
     /// Clears the histogram and fills it from the window `e` of `img`: at most `cap` pixels
     /// (px, see [`crate::window::visit`]), binned by `Bn` (which must have `B` bins; checked
     /// at compile time). Returns the number of pixels visited.
+    ///
+    /// Cost per pixel: the bin, the kernel weight, a load, compare and store of the bin's
+    /// count (no saturation: one window's mass is below `2^32`); the pixels of a row are
+    /// read as one slice.
     #[inline]
     pub fn fill<Bn: Binning, P: PixelFormat>(
         &mut self,
@@ -181,11 +197,35 @@ impl<const B: usize> Histogram<B> {
         e: &Ellipse,
         cap: u32,
     ) -> u32 {
+        const { assert!(Bn::BINS == B, "the binning must have B bins") };
         self.clear();
-        self.accumulate::<Bn, P>(img, e, cap)
+        let (counts, touched) = (&mut self.counts, &mut self.touched);
+        let cap = cap.min(MAX_CAP);
+        let n = rows(img, e, cap, cap, |run| {
+            let mut weights = run.weights;
+            run.row
+                .for_each_bin::<Bn>(run.x0, run.step, run.count, |bin| {
+                    let w = weights.next();
+                    if let Some(c) = counts.get_mut(bin as usize) {
+                        if *c == 0 && w != 0 {
+                            // Cannot fail: a bin enters the list once, while its count is zero.
+                            let _ = touched.push(bin);
+                        }
+                        // One window's mass is below 2^32 (window::MAX_CAP pixels of weight at
+                        // most 2^16), so no count of a cleared histogram can wrap.
+                        *c = c.wrapping_add(w);
+                    }
+                });
+        });
+        self.mass = touched
+            .iter()
+            .map(|&u| counts.get(u as usize).copied().unwrap_or(0))
+            .fold(0u32, u32::wrapping_add);
+        n
     }
 
-    /// [`Histogram::fill`] without clearing first (the mass saturates at `u32::MAX`).
+    /// [`Histogram::fill`] without clearing first (counts and the mass saturate at
+    /// `u32::MAX`).
     #[inline]
     pub fn accumulate<Bn: Binning, P: PixelFormat>(
         &mut self,
@@ -418,6 +458,23 @@ mod tests {
         assert!(worst < 8e-6, "relative error {worst}");
         assert_eq!(sqrt_q8(1), 256);
         assert_eq!(sqrt_q8(65536), 65536);
+    }
+
+    #[test]
+    fn isqrt32_is_exact() {
+        let mut r = Rng::new(4);
+        for n in (0..1u32 << 20).chain((0..1_000_000).map(|_| r.next_u32() >> 1)) {
+            assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
+        for n in [
+            i32::MAX as u32,
+            (1 << 30) - 1,
+            1 << 30,
+            46_340 * 46_340,
+            46_341 * 46_341 - 1,
+        ] {
+            assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
     }
 
     #[test]

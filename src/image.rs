@@ -18,7 +18,8 @@
 //!
 //! Luma is BT.601 full range: `Y = (77 R + 150 G + 29 B + 128) >> 8` (0..=255, white is
 //! 255); for [`Yuv422`] it is the Y byte. RGB565 channels widen to 8 bits by bit
-//! replication (`r8 = r5 << 3 | r5 >> 2`).
+//! replication (`r8 = r5 << 3 | r5 >> 2`); the luma of an RGB565 pixel is read from two
+//! 256-entry tables indexed by its two bytes ([`rgb565_luma`], the same value).
 //!
 //! # Colour bins
 //! A [`Binning`] is a sealed marker type that maps any pixel format to a bin index in
@@ -111,6 +112,45 @@ pub const fn rgb565_to_rgb888(v: u16) -> (u8, u8, u8) {
         (g6 << 2) | (g6 >> 4),
         (b5 << 3) | (b5 >> 2),
     )
+}
+
+/// Luma sums of an RGB565 word's high byte (`RRRRRGGG`): `77 R8 + 150 G8_hi + 128`,
+/// where `G8 = G8_hi + G8_lo` splits the widened green into the part from the high byte's
+/// three green bits (`g << 5 | g >> 1`) and the part from the low byte's (`g << 2`): their
+/// bits do not overlap, so the bit replication is a sum.
+const RGB565_LUMA_HI: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        let r5 = (i >> 3) as u32;
+        let g3 = (i & 7) as u32;
+        let r8 = (r5 << 3) | (r5 >> 2);
+        t[i] = (77 * r8 + 150 * ((g3 << 5) | (g3 >> 1)) + 128) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// Luma sums of an RGB565 word's low byte (`GGGBBBBB`): `150 G8_lo + 29 B8`.
+const RGB565_LUMA_LO: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        let g3 = (i >> 5) as u32;
+        let b5 = (i & 31) as u32;
+        let b8 = (b5 << 3) | (b5 >> 2);
+        t[i] = (150 * (g3 << 2) + 29 * b8) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// BT.601 full-range luma of an RGB565 word given as its high and low bytes: the same
+/// value as [`luma_of_rgb`] of [`rgb565_to_rgb888`], by two table look-ups (1 KiB of
+/// tables) instead of widening and three multiplies.
+#[inline(always)]
+pub fn rgb565_luma(hi: u8, lo: u8) -> u8 {
+    ((RGB565_LUMA_HI[hi as usize] as u32 + RGB565_LUMA_LO[lo as usize] as u32) >> 8) as u8
 }
 
 /// BT.601 full-range (JFIF) YUV of 8-bit RGB; U and V are centred on 128, all 0..=255.
@@ -268,9 +308,91 @@ pub trait PixelFormat: private::Sealed + Copy + core::fmt::Debug + 'static {
     /// Whether width and stride must be even.
     const PAIRED: bool;
     /// Luma (0..=255) of pixel `x` (px) of `row`; 0 past its end.
-    fn luma_at(row: &[u8], x: usize) -> u8;
+    #[inline(always)]
+    fn luma_at(row: &[u8], x: usize) -> u8 {
+        Self::luma_at_byte(row, x.wrapping_mul(Self::BYTES_PER_PIXEL))
+    }
+    /// Luma (0..=255) of the pixel whose bytes start at `index` of `bytes` (`x *
+    /// BYTES_PER_PIXEL` into a row, or that plus whole rows into a frame; for [`Yuv422`],
+    /// `2 x`); 0 past the end.
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8;
     /// Bin (`0..Bn::BINS`) of pixel `x` (px) of `row`; 0 past its end.
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16;
+    /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` of `row` (px,
+    /// `step >= 1`), left to right, as [`PixelFormat::bin_at`] would give them; the
+    /// fixed-size formats read them without a bounds check per pixel.
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        mut f: impl FnMut(u16),
+    ) {
+        let mut x = x0;
+        for _ in 0..count {
+            f(Self::bin_at::<Bn>(row, x));
+            x = x.wrapping_add(step);
+        }
+    }
+}
+
+/// [`PixelFormat::for_each_bin`] for a format of `BPP` bytes per pixel, `bin` giving a
+/// pixel's bin from its bytes: one bounds check per run, then fixed-size chunks.
+#[inline(always)]
+fn bins_of_run<const BPP: usize>(
+    row: &[u8],
+    x0: usize,
+    step: usize,
+    count: u32,
+    bin: impl Fn(&[u8; BPP]) -> u16,
+    mut f: impl FnMut(u16),
+) {
+    let Some(last) = (count as usize).checked_sub(1) else {
+        return;
+    };
+    let stride = step.max(1) * BPP; // >= BPP
+    let start = x0.saturating_mul(BPP);
+    // First byte of the first pixel to the last byte of the last one.
+    let run = last
+        .checked_mul(stride)
+        .and_then(|len| start.checked_add(len))
+        .and_then(|tail| row.get(start..tail.checked_add(BPP)?));
+    match run {
+        // Consecutive pixels (every window below the pixel cap): chunks of a constant
+        // size, no division to set them up.
+        Some(run) if step == 1 => {
+            for chunk in run.chunks_exact(BPP) {
+                if let Some(px) = chunk.first_chunk::<BPP>() {
+                    f(bin(px));
+                }
+            }
+        }
+        Some(run) => {
+            let (body, tail) = run.split_at(last * stride);
+            for chunk in body.chunks_exact(stride) {
+                if let Some(px) = chunk.first_chunk::<BPP>() {
+                    f(bin(px));
+                }
+            }
+            if let Some(px) = tail.first_chunk::<BPP>() {
+                f(bin(px));
+            }
+        }
+        // Partly past the row's end (never for the windows of `crate::window`): one by
+        // one, bin 0 past the end.
+        None => {
+            let mut x = x0;
+            for _ in 0..count {
+                let px = x
+                    .checked_mul(BPP)
+                    .and_then(|i| row.get(i..))
+                    .and_then(|r| r.first_chunk::<BPP>());
+                f(px.map_or(0, &bin));
+                x = x.wrapping_add(step);
+            }
+        }
+    }
 }
 
 /// 8-bit grey.
@@ -308,12 +430,22 @@ impl PixelFormat for Gray8 {
     const BYTES_PER_PIXEL: usize = 1;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        row.get(x).copied().unwrap_or(0)
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        bytes.get(index).copied().unwrap_or(0)
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         Bn::from_luma(Self::luma_at(row, x))
+    }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<1>(row, x0, step, count, |&[y]| Bn::from_luma(y), f)
     }
 }
 
@@ -330,13 +462,32 @@ impl PixelFormat for Rgb565Le {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        let (r, g, b) = rgb565_to_rgb888(rgb565_word(row, x, false));
-        luma_of_rgb(r, g, b)
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        match (bytes.get(index), bytes.get(index.wrapping_add(1))) {
+            (Some(&lo), Some(&hi)) => rgb565_luma(hi, lo),
+            _ => 0,
+        }
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         Bn::from_rgb565(rgb565_word(row, x, false))
+    }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<2>(
+            row,
+            x0,
+            step,
+            count,
+            |&px| Bn::from_rgb565(u16::from_le_bytes(px)),
+            f,
+        )
     }
 }
 
@@ -344,13 +495,32 @@ impl PixelFormat for Rgb565Be {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        let (r, g, b) = rgb565_to_rgb888(rgb565_word(row, x, true));
-        luma_of_rgb(r, g, b)
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        match (bytes.get(index), bytes.get(index.wrapping_add(1))) {
+            (Some(&hi), Some(&lo)) => rgb565_luma(hi, lo),
+            _ => 0,
+        }
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         Bn::from_rgb565(rgb565_word(row, x, true))
+    }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<2>(
+            row,
+            x0,
+            step,
+            count,
+            |&px| Bn::from_rgb565(u16::from_be_bytes(px)),
+            f,
+        )
     }
 }
 
@@ -358,9 +528,13 @@ impl PixelFormat for Rgb888 {
     const BYTES_PER_PIXEL: usize = 3;
     const PAIRED: bool = false;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        match row.get(3 * x..3 * x + 3) {
-            Some(&[r, g, b]) => luma_of_rgb(r, g, b),
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        match (
+            bytes.get(index),
+            bytes.get(index.wrapping_add(1)),
+            bytes.get(index.wrapping_add(2)),
+        ) {
+            (Some(&r), Some(&g), Some(&b)) => luma_of_rgb(r, g, b),
             _ => 0,
         }
     }
@@ -371,14 +545,31 @@ impl PixelFormat for Rgb888 {
             _ => 0,
         }
     }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(
+        row: &[u8],
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        bins_of_run::<3>(
+            row,
+            x0,
+            step,
+            count,
+            |&[r, g, b]| Bn::from_rgb888(r, g, b),
+            f,
+        )
+    }
 }
 
 impl PixelFormat for Yuv422 {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = true;
     #[inline(always)]
-    fn luma_at(row: &[u8], x: usize) -> u8 {
-        row.get(2 * x).copied().unwrap_or(0)
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        bytes.get(index).copied().unwrap_or(0)
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
@@ -564,6 +755,19 @@ impl<'a, P: PixelFormat> Row<'a, P> {
     pub fn bin<Bn: Binning>(&self, x: usize) -> u16 {
         P::bin_at::<Bn>(self.bytes, x)
     }
+
+    /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` (px, `step >= 1`), left
+    /// to right; pixels past the row's end give bin 0.
+    #[inline(always)]
+    pub fn for_each_bin<Bn: Binning>(
+        &self,
+        x0: usize,
+        step: usize,
+        count: u32,
+        f: impl FnMut(u16),
+    ) {
+        P::for_each_bin::<Bn>(self.bytes, x0, step, count, f)
+    }
 }
 
 #[cfg(test)]
@@ -693,10 +897,46 @@ mod tests {
         assert_eq!(img.bin::<Rgb8x8x8>(1, 0), (2 << 6) | (7 << 3) | 7);
     }
 
+    /// Runs of bins equal the bins one by one, every format, every step, at and past the
+    /// row's end.
+    #[test]
+    fn runs_of_bins_equal_single_bins() {
+        fn check<P: PixelFormat>(bytes_per_px: usize) {
+            extern crate std;
+            use std::vec::Vec;
+            let mut r = crate::rng::Rng::new(2);
+            let (w, h) = (14usize, 3usize);
+            let buf: Vec<u8> = (0..w * h * bytes_per_px)
+                .map(|_| r.next_u32() as u8)
+                .collect();
+            let img = ImageView::<P>::new(&buf, w, h, w).unwrap();
+            let row = img.row(1);
+            for x0 in 0..w + 2 {
+                for step in 1..6 {
+                    for count in 0..8u32 {
+                        let mut got = Vec::new();
+                        row.for_each_bin::<Rgb8x8x8>(x0, step, count, |b| got.push(b));
+                        let want: Vec<u16> = (0..count as usize)
+                            .map(|k| row.bin::<Rgb8x8x8>(x0 + k * step))
+                            .collect();
+                        assert_eq!(got, want, "x0 {x0} step {step} count {count}");
+                    }
+                }
+            }
+        }
+        check::<Gray8>(1);
+        check::<Rgb565Le>(2);
+        check::<Rgb565Be>(2);
+        check::<Rgb888>(3);
+        check::<Yuv422>(2);
+    }
+
     #[test]
     fn rgb565_bins_equal_widened_rgb888_bins() {
         for v in 0..=u16::MAX {
             let (r, g, b) = rgb565_to_rgb888(v);
+            let [hi, lo] = v.to_be_bytes();
+            assert_eq!(rgb565_luma(hi, lo), luma_of_rgb(r, g, b), "{v:#06x}");
             assert_eq!(Rgb8x8x8::from_rgb565(v), Rgb8x8x8::from_rgb888(r, g, b));
             assert_eq!(Rgb8x8x4::from_rgb565(v), Rgb8x8x4::from_rgb888(r, g, b));
             assert!((Rgb8x8x8::from_rgb565(v) as usize) < Rgb8x8x8::BINS);

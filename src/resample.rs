@@ -104,6 +104,11 @@ impl core::error::Error for ResampleError {}
 /// Rescales `weights` to sum to exactly [`WEIGHT_TOTAL`] (cumulative rounding, see the
 /// module docs); all zero becomes uniform. Any length up to `2^32`; each weight is any
 /// `u32`.
+///
+/// Cost: when the sum is a power of two (weights already normalised sum to `2^24`) a shift
+/// per weight, no division; when it is below `2^40` (any `2^16` weights below `2^24`
+/// each, or the tracker's weights, which sum to at most `2^32`) one `u64` division per
+/// weight; only larger sums take a `u128` division per weight.
 pub fn normalise(weights: &mut [u32]) -> Normalised {
     let sum: u64 = weights.iter().map(|&w| w as u64).sum();
     let (total, all_zero) = if sum == 0 {
@@ -114,14 +119,24 @@ pub fn normalise(weights: &mut [u32]) -> Normalised {
     if total == 0 {
         return Normalised::AllZero;
     }
-    let mut cum = 0u64;
-    let mut prev = 0u64;
-    for w in weights.iter_mut() {
-        cum += if all_zero { 1 } else { *w as u64 };
-        // cum < 2^64; cum << 24 needs u128.
-        let edge = (((cum as u128) << WEIGHT_TOTAL_LOG2) / total as u128) as u64;
-        *w = (edge - prev) as u32;
-        prev = edge;
+    let weight = |w: u32| if all_zero { 1 } else { w as u64 };
+    if total.is_power_of_two() {
+        // floor(cum 2^24 / 2^p) is a shift.
+        let p = total.trailing_zeros();
+        rescale(weights, weight, |cum| {
+            if p >= WEIGHT_TOTAL_LOG2 {
+                cum >> (p - WEIGHT_TOTAL_LOG2)
+            } else {
+                cum << (WEIGHT_TOTAL_LOG2 - p)
+            }
+        });
+    } else if total < 1 << (64 - WEIGHT_TOTAL_LOG2) {
+        // cum <= total < 2^40, so cum << 24 fits a u64.
+        rescale(weights, weight, |cum| (cum << WEIGHT_TOTAL_LOG2) / total);
+    } else {
+        rescale(weights, weight, |cum| {
+            (((cum as u128) << WEIGHT_TOTAL_LOG2) / total as u128) as u64
+        });
     }
     if all_zero {
         Normalised::AllZero
@@ -130,19 +145,56 @@ pub fn normalise(weights: &mut [u32]) -> Normalised {
     }
 }
 
+/// Replaces each weight by `edge(C_i) - edge(C_{i-1})`, `C_i` the running sum of
+/// `weight(w)`.
+#[inline(always)]
+fn rescale(weights: &mut [u32], weight: impl Fn(u32) -> u64, edge: impl Fn(u64) -> u64) {
+    let mut cum = 0u64;
+    let mut prev = 0u64;
+    for w in weights.iter_mut() {
+        cum += weight(*w);
+        let e = edge(cum);
+        *w = (e - prev) as u32;
+        prev = e;
+    }
+}
+
 /// Effective sample size `(sum w)^2 / sum w^2` (= `1 / sum w^2` for normalised weights),
 /// in particles, Q16.16, between 1 and the number of non-zero weights; saturates at
 /// [`Q16::MAX`] (32768) for more particles than that. All-zero or empty weights give 0.
 pub fn effective_sample_size(weights: &[u32]) -> Q16 {
-    let (sum, sum_sq) = weights.iter().fold((0u128, 0u128), |(s, q), &w| {
-        let w = w as u128;
-        (s + w, q + w * w)
-    });
+    let (sum, sum_sq) = sums(weights);
     if sum_sq == 0 {
         return Q16::ZERO;
     }
     let ess_q16 = ess_ratio_q16(sum, sum_sq);
     Q16::saturate(ess_q16.min(i64::MAX as u128) as i64)
+}
+
+/// Whether `effective_sample_size(weights) >= threshold`, decided by one multiplication
+/// and comparison instead of a 128-bit division (the resampling test of a filter step).
+pub fn effective_sample_size_at_least(weights: &[u32], threshold: Q16) -> bool {
+    let (sum, sum_sq) = sums(weights);
+    if sum_sq == 0 {
+        return threshold <= Q16::ZERO;
+    }
+    if threshold <= Q16::ZERO {
+        return true;
+    }
+    // floor(X / Y) >= T  <=>  X >= T Y for integers; sum <= 2^48 for 65535 weights, so
+    // X = sum^2 2^16 <= 2^112 and T Y < 2^31 2^80: no overflow for any `MAX_PARTICLES`
+    // weights, and a saturating product stays correct beyond.
+    let x = sum.saturating_mul(sum).saturating_mul(1 << 16);
+    x >= (threshold.to_bits() as u128).saturating_mul(sum_sq)
+}
+
+/// `(sum w, sum w^2)`.
+#[inline]
+fn sums(weights: &[u32]) -> (u128, u128) {
+    weights.iter().fold((0u128, 0u128), |(s, q), &w| {
+        let w = w as u64;
+        (s + w as u128, q + (w * w) as u128)
+    })
 }
 
 /// `sum^2 2^16 / sum_sq`, rounded down; exact for `sum <= 2^56` (e.g. 65535 weights of
@@ -221,8 +273,41 @@ fn search(cum: &[u32], r: u32) -> u16 {
 }
 
 /// Evenly spaced positions `r_k = floor((k 2^24 + u_k) / M)` (`u_k < 2^24`), walked
-/// against `cum` in one pass.
+/// against `cum` in one pass. The quotient of `k 2^24` by `M` is carried from one `k` to
+/// the next with its remainder, so a position costs one 32-bit division (of `u_k`), not a
+/// 64-bit one.
 fn spaced(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
+    let Ok(m) = u32::try_from(out.len()) else {
+        return spaced_wide(cum, out, offset);
+    };
+    if m == 0 {
+        return;
+    }
+    let last = cum.len().saturating_sub(1);
+    let (step_q, step_r) = (WEIGHT_TOTAL / m, WEIGHT_TOTAL % m);
+    // k 2^24 = q M + rem, with rem < M.
+    let (mut q, mut rem) = (0u32, 0u32);
+    let mut j = 0usize;
+    for (k, o) in out.iter_mut().enumerate() {
+        let u = offset(k);
+        let (uq, ur) = (u / m, u % m);
+        // floor((q M + rem + uq M + ur) / M), rem + ur < 2 M; every term below 2^25.
+        let r = q + uq + ((rem as u64 + ur as u64) >= m as u64) as u32;
+        while j < last && cum.get(j).is_some_and(|&c| c <= r) {
+            j += 1;
+        }
+        *o = j as u16;
+        q += step_q;
+        rem += step_r;
+        if rem >= m {
+            rem -= m;
+            q += 1;
+        }
+    }
+}
+
+/// [`spaced`] for more than `2^32` outputs, with a 64-bit division per position.
+fn spaced_wide(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
     let m = out.len() as u64;
     let last = cum.len().saturating_sub(1);
     let mut j = 0usize;
@@ -341,6 +426,52 @@ mod tests {
         assert!(w.iter().all(|&x| x == 5_592_405 || x == 5_592_406));
         let mut empty: [u32; 0] = [];
         assert_eq!(normalise(&mut empty), Normalised::AllZero);
+    }
+
+    /// Every path of `normalise` (shift, u64 and u128 division) gives the cumulative
+    /// rounding `floor(C_i 2^24 / C)` computed in u128; `spaced` gives
+    /// `floor((k 2^24 + u) / M)` for every `k`.
+    #[test]
+    fn fast_paths_equal_the_wide_arithmetic() {
+        let mut r = Rng::new(21);
+        for trial in 0..3000 {
+            let n = 1 + r.below(300) as usize;
+            let mut w: Vec<u32> = (0..n)
+                .map(|_| match trial % 3 {
+                    0 => r.next_u32() >> (r.next_u32() % 32),
+                    1 => r.next_u32(),
+                    _ => r.below(4),
+                })
+                .collect();
+            if trial % 5 == 0 {
+                // A power-of-two total, as after a previous normalisation.
+                normalise(&mut w);
+            }
+            let total: u128 = w.iter().map(|&x| x as u128).sum();
+            let mut expected = w.clone();
+            let (mut cum, mut prev) = (0u128, 0u128);
+            for e in expected.iter_mut() {
+                cum += *e as u128;
+                let edge = (cum << 24).checked_div(total).unwrap_or(0);
+                *e = (edge - prev) as u32;
+                prev = edge;
+            }
+            let found = normalise(&mut w);
+            if total > 0 {
+                assert_eq!(found, Normalised::Scaled);
+                assert_eq!(w, expected, "trial {trial}");
+            }
+            // Spaced positions against the direct 64-bit formula.
+            let m = 1 + r.below(400) as usize;
+            let offsets: Vec<u32> = (0..m).map(|_| r.next_u32() >> 8).collect();
+            let mut cum = w.clone();
+            cumulate(&mut cum);
+            let mut fast = vec![0u16; m];
+            spaced(&cum, &mut fast, |k| offsets[k]);
+            let mut wide = vec![0u16; m];
+            spaced_wide(&cum, &mut wide, |k| offsets[k]);
+            assert_eq!(fast, wide, "trial {trial}");
+        }
     }
 
     /// Exactly N valid indices for all-zero, one non-zero, saturated and mixed weights,
@@ -503,6 +634,29 @@ mod tests {
         assert_eq!(effective_sample_size(&[1, 1, 2]).to_bits(), (16 << 16) / 6);
         assert_eq!(effective_sample_size(&vec![1; 40_000]), Q16::MAX);
         assert_eq!(effective_sample_size(&vec![u32::MAX; 65_535]), Q16::MAX);
+        // The comparison agrees with the value, at and around it.
+        let mut r = Rng::new(12);
+        for n in [1usize, 2, 7, 100, 1000] {
+            for _ in 0..50 {
+                let w: Vec<u32> = (0..n)
+                    .map(|_| r.next_u32() >> (r.next_u32() % 32))
+                    .collect();
+                let e = effective_sample_size(&w);
+                for t in [-1, 0, 1, 2] {
+                    let threshold = Q16::from_bits(e.to_bits().saturating_add(t));
+                    assert_eq!(
+                        effective_sample_size_at_least(&w, threshold),
+                        e >= threshold
+                    );
+                }
+            }
+        }
+        assert!(!effective_sample_size_at_least(&[0, 0], Q16::ONE));
+        assert!(effective_sample_size_at_least(&[0, 0], Q16::ZERO));
+        assert!(effective_sample_size_at_least(
+            &vec![u32::MAX; 65_535],
+            Q16::MAX
+        ));
         let mut w = [4u32, 1, 0, 3];
         let before = ess(&w);
         normalise(&mut w);

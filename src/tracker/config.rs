@@ -143,9 +143,11 @@ pub(crate) struct Derived {
 impl Config {
     /// Defaults for `variant`: constant velocity with position noise 2 px plus 0.2 px per px
     /// of half-axis and velocity noise 1 px/frame; 300 pixels per window; colour sigma 0.2,
-    /// gradient sigma 0.3; Kalman `Q = 0.25 I`, `R = 4 I` (smoother sizes than the RBPF
-    /// paper's `4 I` and `2 I`, which follow every noisy scale measurement); systematic
-    /// resampling below half the particles.
+    /// gradient sigma 0.3, gradient cue on 24 boundary points searched 2 px each side of
+    /// the boundary (5 gradients per point: as accurate as 3 px on the built-in scenes
+    /// and the real sequences, for 29 % fewer gradients); Kalman `Q = 0.25 I`, `R = 4 I`
+    /// (smoother sizes than the RBPF paper's `4 I` and `2 I`, which follow every noisy
+    /// scale measurement); systematic resampling below half the particles.
     pub fn new(variant: Variant) -> Self {
         Self {
             variant,
@@ -163,7 +165,7 @@ impl Config {
             gradient_sigma: Q16::from_f64(0.3),
             cue_mix: CueMix::Product,
             gradient_points: 24,
-            gradient_search: 3,
+            gradient_search: 2,
             resampling: Scheme::Systematic,
             resample_below: Q16::HALF,
             readout: Readout::Mean,

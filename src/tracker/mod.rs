@@ -28,7 +28,9 @@
 //! # Bounded work
 //! A step visits at most `(N + 6) * pixels_per_window` pixels: `N` particle windows, one
 //! estimate window and, for the RBPF, five scale windows; the RBPF's gradient cue reads
-//! `(N + 5) * gradient_points * (2 * gradient_search + 1)` 5-tap gradients on top.
+//! `(N + 5) * gradient_points * (2 * gradient_search + 1)` 5-tap gradients on top, at
+//! most (the particles' samples of one boundary point repeat pixels, and each pixel's
+//! gradient is computed once per frame while it stays in the memo).
 //! [`Tracker::pixels_visited`] reports the figure of the last step.
 //!
 //! # Examples
@@ -66,7 +68,7 @@ mod particle;
 pub use config::{Config, ConfigError, CueMix, Readout, Variant};
 pub use particle::Particle;
 
-use crate::cue::{GradientConfig, GradientCue};
+use crate::cue::{GradientConfig, GradientCue, GradientMemo};
 use crate::fixed::Q16;
 use crate::hist::{Histogram, Model};
 use crate::image::{Binning, ImageView, PixelFormat};
@@ -74,7 +76,7 @@ use crate::kalman::{BlockNoise, SharedCovariance, Sym2};
 use crate::likelihood::exp_neg;
 use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
 use crate::resample::{
-    effective_sample_size, normalise, replicate, resample, Normalised, WEIGHT_TOTAL,
+    effective_sample_size_at_least, normalise, replicate, resample, Normalised, WEIGHT_TOTAL,
 };
 use crate::rng::Rng;
 use crate::window::Ellipse;
@@ -115,10 +117,11 @@ pub struct Estimate {
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
 /// the binning `Bn` (`Bn::BINS == B`, checked at compile time).
 ///
-/// Its RAM is its `size_of`, all inline: 40 bytes per particle (state, weight, resampling
-/// scratch), about 14 bytes per bin (model, histogram, touched-bin list) and under 1 KiB
-/// more. With 512 bins: 9,976 bytes at N = 50, 11,976 at N = 100, 15,976 at N = 200 on
-/// x86-64 (pinned by `host-tests/tests/tracking.rs`).
+/// Its RAM is its `size_of`, all inline: 44 bytes per particle (state, weight, gradient
+/// cue, resampling scratch), about 14 bytes per bin (model, histogram, touched-bin list),
+/// the 6 KiB gradient memo ([`crate::cue::GradientMemo`]) and under 1 KiB more. With 512
+/// bins: 16,336 bytes at N = 50, 18,536 at N = 100, 22,936 at N = 200 on x86-64 (pinned
+/// by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     config: Config,
@@ -129,6 +132,10 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     rng: Rng,
     particles: [Particle; N],
     weights: [u32; N],
+    /// The gradient cue of each particle's window, this frame (RBPF).
+    cue_values: [Q16; N],
+    /// Gradients already computed in this frame (RBPF).
+    memo: GradientMemo,
     indices: [u16; N],
     counts: [u16; N],
     resampled: bool,
@@ -179,6 +186,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             rng: Rng::new(config.seed),
             particles: [Particle::default(); N],
             weights: [0; N],
+            cue_values: [Q16::ZERO; N],
+            memo: GradientMemo::new(),
             indices: [0; N],
             counts: [0; N],
             resampled: false,
@@ -236,6 +245,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             status: Status::Tracking,
         };
         self.last_confident = init;
+        self.memo.start_frame();
         Ok(())
     }
 
@@ -255,6 +265,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
         self.pixels_visited = 0;
         self.scale_factor = None;
+        self.memo.start_frame();
 
         self.propagate(&bounds);
         cycles.propagate = watch.lap();
@@ -381,8 +392,14 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.weights = [WEIGHT_TOTAL / N as u32; N];
     }
 
-    /// Likelihood of window `e`, Q0.16 in `0..=65535`, and its Bhattacharyya coefficient.
-    fn likelihood<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, e: &Ellipse) -> (u32, Q16) {
+    /// Likelihood of window `e`, Q0.16 in `0..=65535`, and its Bhattacharyya coefficient;
+    /// `cue` is the window's gradient cue if already known (RBPF).
+    fn likelihood<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        e: &Ellipse,
+        cue: Option<Q16>,
+    ) -> (u32, Q16) {
         self.pixels_visited = self.pixels_visited.saturating_add(self.hist.fill::<Bn, P>(
             frame,
             e,
@@ -393,7 +410,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let likelihood = match self.config.variant {
             Variant::ColourPf => exp_neg(colour_cost),
             Variant::Rbpf => {
-                let miss = Q16::ONE - self.cue.evaluate(frame, e);
+                let g = match cue {
+                    Some(g) => g,
+                    None => self.cue.evaluate_memo(frame, e, &mut self.memo),
+                };
+                let miss = Q16::ONE - g;
                 let gradient_cost = self.derived.gradient.cost(miss * miss);
                 match self.config.cue_mix {
                     CueMix::Product => exp_neg(colour_cost + gradient_cost),
@@ -410,9 +431,22 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     }
 
     fn weigh<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) {
+        if self.config.variant == Variant::Rbpf {
+            // Boundary point by boundary point across the particles: their samples of one
+            // point lie close together, so the memo computes each pixel's gradient about
+            // once (the values are those of `GradientCue::evaluate`).
+            let particles = &self.particles;
+            self.cue.evaluate_each(
+                frame,
+                |i| particles.get(i).map(Particle::ellipse).unwrap_or_default(),
+                &mut self.cue_values,
+                &mut self.memo,
+            );
+        }
         for i in 0..N {
             let e = self.particles[i].ellipse();
-            let (likelihood, _) = self.likelihood(frame, &e);
+            let cue = self.cue_values[i];
+            let (likelihood, _) = self.likelihood(frame, &e, Some(cue));
             // weight <= 2^24 (normalised) times likelihood < 2^16, over 2^8: below 2^32.
             self.weights[i] = ((self.weights[i] as u64 * likelihood as u64) >> 8) as u32;
         }
@@ -437,7 +471,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 hy,
                 ..mean.ellipse
             };
-            let (likelihood, rho) = self.likelihood(frame, &e);
+            let (likelihood, rho) = self.likelihood(frame, &e, None);
             if likelihood > best.0 {
                 best = (likelihood, factor, rho);
             }
@@ -539,7 +573,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     fn resample_if_degenerate(&mut self) {
         let threshold = self.config.resample_below.mul_int(N as i32);
         self.resampled = false;
-        if effective_sample_size(&self.weights) >= threshold {
+        if effective_sample_size_at_least(&self.weights, threshold) {
             return;
         }
         let scheme = self.config.resampling;

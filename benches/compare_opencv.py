@@ -1,0 +1,323 @@
+#!/usr/bin/env python3
+"""rbtrack against OpenCV's trackers on the same OTB-layout sequences, in one run.
+
+    pip install opencv-contrib-python-headless==5.0.0.93 numpy   # once (this script installs nothing)
+    cargo build --release -p rbtrack-host                        # the `rbtrack` binary
+    python3 benches/compare_opencv.py                            # ../shared/data by default
+    python3 benches/compare_opencv.py DATA_DIR --per-sequence --rbtrack target/release/rbtrack
+
+Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.legacy`,
+default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
+`cv2.CamShift`) and `rbtrack track SEQ --json` (RBPF, and the colour PF), every tracker
+initialised from the first ground-truth box, one pass over every sequence, and prints one
+table: success AUC, precision at 20 px and tracking-only milliseconds per frame, with
+rbtrack's time as a ratio to each tracker's, all measured in this run.
+
+Conventions, the same as `rbtrack eval` (host-tests/src/metrics.rs, sequence.rs):
+- frames `img/*.jpg|png` ordered by the number in their name; `groundtruth_rect.txt`, one
+  `x,y,w,h` per line (commas, spaces or tabs); boxes are 1-based (OTB, UAV123, PETS) except in
+  folders whose name contains `_vot` (0-based, VOT-derived): everything is converted to
+  0-based before use;
+- a box covers pixels `x..x+w-1`, its centre is `(x + (w-1)/2, y + (h-1)/2)`;
+- every frame with a valid ground-truth box (finite, `w, h > 0`) counts, the first included
+  (the initial box itself);
+- success AUC: mean over the IoU thresholds 0, 0.05, ..., 1 (21) of the share of frames
+  with IoU strictly above the threshold; precision at 20 px: share of frames whose centre
+  error is at most 20 px;
+- ms/frame: time inside the tracker's update (OpenCV: `tracker.update(frame)`; CamShift:
+  HSV conversion, back-projection and `cv2.CamShift`; rbtrack: its own `ms_per_frame`,
+  time inside `Tracker::step`), decoding excluded, averaged over the frames after the first;
+  the table's figure is the mean over sequences. OpenCV runs on one thread
+  (`cv2.setNumThreads(1)`, `--threads` to change) like rbtrack.
+- a tracker that reports failure for a frame keeps its last box.
+
+rbtrack's scores come from its JSON; the script recomputes them from its `--boxes` output
+(two decimals) with the metrics below and warns if they differ by more than 0.002 (a check
+of this script's metrics; the rounding of the box file moves an AUC by up to ~5e-4).
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+try:
+    import cv2
+    import numpy as np
+except ImportError:
+    sys.exit(
+        "compare_opencv.py: needs OpenCV and NumPy: "
+        "pip install opencv-contrib-python-headless==5.0.0.93 numpy"
+    )
+
+SUCCESS_STEPS = 21
+PRECISION_PX = 20.0
+REPO = Path(__file__).resolve().parent.parent
+
+
+# --- sequences ---------------------------------------------------------------------------
+
+
+def read_boxes(path):
+    """Boxes of a ground-truth or box file, one per line; NaN box for an unreadable line."""
+    boxes = []
+    for line in path.read_text().splitlines():
+        fields = [f for f in re.split(r"[,\s]+", line.strip()) if f]
+        if not fields:
+            continue
+        try:
+            x, y, w, h = (float(f) for f in fields[:4])
+        except ValueError:
+            x = y = w = h = math.nan
+        boxes.append((x, y, w, h))
+    return boxes
+
+
+def zero_based(name):
+    """Whether the folder's boxes are 0-based (VOT-derived), as GtOrigin::for_sequence."""
+    return "_vot" in name.lower()
+
+
+def to_zero_based(box, name):
+    if zero_based(name):
+        return box
+    x, y, w, h = box
+    return (x - 1.0, y - 1.0, w, h)
+
+
+def frame_paths(seq):
+    def number(p):
+        digits = re.findall(r"\d+", p.stem)
+        return (int(digits[-1]) if digits else -1, p.name)
+
+    paths = [p for p in (seq / "img").iterdir() if p.suffix.lower() in (".jpg", ".png")]
+    return sorted(paths, key=number)
+
+
+def sequences(data):
+    for seq in sorted(p for p in data.iterdir() if p.is_dir()):
+        if (seq / "img").is_dir() and (seq / "groundtruth_rect.txt").is_file():
+            yield seq
+
+
+# --- metrics (host-tests/src/metrics.rs) -------------------------------------------------
+
+
+def valid(b):
+    return all(math.isfinite(v) for v in b) and b[2] > 0 and b[3] > 0
+
+
+def iou(a, b):
+    if not valid(a) or not valid(b):
+        return 0.0
+    w = min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0])
+    h = min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1])
+    inter = w * h if w > 0 and h > 0 else 0.0
+    union = a[2] * a[3] + b[2] * b[3] - inter
+    return min(max(inter / union, 0.0), 1.0) if inter > 0 and union > 0 else 0.0
+
+
+def centre_error(a, b):
+    if not all(math.isfinite(v) for v in a + b):
+        return math.inf
+    ax, ay = a[0] + (a[2] - 1) / 2, a[1] + (a[3] - 1) / 2
+    bx, by = b[0] + (b[2] - 1) / 2, b[1] + (b[3] - 1) / 2
+    return math.hypot(ax - bx, ay - by)
+
+
+def scores(truth, estimates):
+    """(success AUC, precision at 20 px) of 0-based estimates against 0-based truth."""
+    pairs = [(t, e) for t, e in zip(truth, estimates) if valid(t)]
+    if not pairs:
+        return 0.0, 0.0
+    ious = [iou(t, e) for t, e in pairs]
+    errors = [centre_error(t, e) for t, e in pairs]
+    thresholds = [i / (SUCCESS_STEPS - 1) for i in range(SUCCESS_STEPS)]
+    auc = sum(sum(v > t for v in ious) / len(ious) for t in thresholds) / SUCCESS_STEPS
+    prec = sum(e <= PRECISION_PX for e in errors) / len(errors)
+    return auc, prec
+
+
+# --- trackers ----------------------------------------------------------------------------
+
+
+def opencv_tracker(name):
+    make = {
+        "CSRT": cv2.legacy.TrackerCSRT_create,
+        "KCF": cv2.legacy.TrackerKCF_create,
+        "MIL": cv2.legacy.TrackerMIL_create,
+        "MOSSE": cv2.legacy.TrackerMOSSE_create,
+    }[name]
+
+    class Legacy:
+        def __init__(self, frame, box):
+            self.t = make()
+            self.box = box
+            self.t.init(frame, tuple(float(v) for v in box))
+
+        def update(self, frame):
+            ok, box = self.t.update(frame)
+            if ok:
+                self.box = tuple(float(v) for v in box)
+            return self.box
+
+    return Legacy
+
+
+class CamShift:
+    """Hue back-projection and CamShift (the OpenCV tutorial's baseline)."""
+
+    def __init__(self, frame, box):
+        x, y, w, h = (int(round(v)) for v in box)
+        H, W = frame.shape[:2]
+        x, y = max(0, min(x, W - 1)), max(0, min(y, H - 1))
+        w, h = max(1, min(w, W - x)), max(1, min(h, H - y))
+        self.window = (x, y, w, h)
+        hsv = cv2.cvtColor(frame[y : y + h, x : x + w], cv2.COLOR_BGR2HSV)
+        mask = cv2.inRange(hsv, np.array((0.0, 60.0, 32.0)), np.array((180.0, 255.0, 255.0)))
+        self.hist = cv2.calcHist([hsv], [0], mask, [180], [0, 180])
+        cv2.normalize(self.hist, self.hist, 0, 255, cv2.NORM_MINMAX)
+        self.crit = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 10, 1)
+
+    def update(self, frame):
+        hsv = cv2.cvtColor(frame, cv2.COLOR_BGR2HSV)
+        back = cv2.calcBackProject([hsv], [0], self.hist, [0, 180], 1)
+        _, window = cv2.CamShift(back, self.window, self.crit)
+        if window[2] > 0 and window[3] > 0:
+            self.window = window
+        return tuple(float(v) for v in self.window)
+
+
+def run_peer(make, frames, init):
+    """0-based boxes and mean ms per frame (after the first) of one tracker over frames."""
+    first = cv2.imread(str(frames[0]), cv2.IMREAD_COLOR)
+    tracker = make(first, init)
+    boxes, times = [init], []
+    for path in frames[1:]:
+        frame = cv2.imread(str(path), cv2.IMREAD_COLOR)
+        t0 = time.perf_counter()
+        box = tracker.update(frame)
+        times.append(time.perf_counter() - t0)
+        boxes.append(box)
+    return boxes, 1000.0 * statistics.fmean(times) if times else 0.0
+
+
+def run_rbtrack(binary, seq, tracker, args):
+    with tempfile.TemporaryDirectory() as tmp:
+        boxes_file = Path(tmp) / "boxes.txt"
+        cmd = [
+            str(binary), "track", str(seq), "--tracker", tracker, "--json",
+            "--particles", str(args.particles), "--seed", str(args.seed),
+            "--boxes", str(boxes_file),
+        ]
+        out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+        result = json.loads(out)
+        boxes = [to_zero_based(b, seq.name) for b in read_boxes(boxes_file)]
+    return result, boxes
+
+
+def find_rbtrack(arg):
+    if arg:
+        return Path(arg)
+    candidates = []
+    if os.environ.get("CARGO_TARGET_DIR"):
+        candidates.append(Path(os.environ["CARGO_TARGET_DIR"]) / "release" / "rbtrack")
+    candidates.append(REPO / "target" / "release" / "rbtrack")
+    for c in candidates:
+        if c.is_file():
+            return c
+    sys.exit(
+        "compare_opencv.py: no rbtrack binary; build it with "
+        "`cargo build --release -p rbtrack-host` or pass --rbtrack PATH"
+    )
+
+
+# --- main --------------------------------------------------------------------------------
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("data", nargs="?", default=str(REPO.parent / "shared" / "data"))
+    parser.add_argument("--rbtrack", help="path of the rbtrack binary")
+    parser.add_argument("--particles", type=int, default=100)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--threads", type=int, default=1, help="OpenCV threads (default 1)")
+    parser.add_argument("--per-sequence", action="store_true", help="also print every sequence")
+    parser.add_argument("--json", action="store_true", help="print the results as JSON")
+    args = parser.parse_args()
+
+    data = Path(args.data)
+    if not data.is_dir():
+        sys.exit(f"compare_opencv.py: no data folder {data}")
+    binary = find_rbtrack(args.rbtrack)
+    cv2.setNumThreads(args.threads)
+
+    peers = {name: opencv_tracker(name) for name in ("CSRT", "KCF", "MIL", "MOSSE")}
+    peers["CamShift"] = CamShift
+    names = ["rbtrack-rbpf", "rbtrack-pf", *peers]
+    rows = {n: [] for n in names}  # per sequence: (sequence, auc, prec20, ms)
+    for seq in sequences(data):
+        truth = [to_zero_based(b, seq.name) for b in read_boxes(seq / "groundtruth_rect.txt")]
+        frames = frame_paths(seq)
+        for tracker in ("rbpf", "pf"):
+            result, boxes = run_rbtrack(binary, seq, tracker, args)
+            auc, prec = scores(truth, boxes)
+            # The box file has two decimals, so an IoU next to a threshold can land on
+            # either side: allow a little.
+            if abs(auc - result["auc"]) > 2e-3 or abs(prec - result["prec20"]) > 2e-3:
+                print(
+                    f"warning: {seq.name} {tracker}: recomputed AUC {auc:.6f} / prec {prec:.6f} "
+                    f"differ from rbtrack's {result['auc']:.6f} / {result['prec20']:.6f}",
+                    file=sys.stderr,
+                )
+            rows[f"rbtrack-{tracker}"].append(
+                (seq.name, result["auc"], result["prec20"], result["ms_per_frame"])
+            )
+        for name, make in peers.items():
+            boxes, ms = run_peer(make, frames, truth[0])
+            auc, prec = scores(truth, boxes)
+            rows[name].append((seq.name, auc, prec, ms))
+        print(f"{seq.name}: done", file=sys.stderr)
+
+    mean = {
+        n: tuple(statistics.fmean(r[i] for r in rows[n]) for i in (1, 2, 3)) if rows[n] else (0, 0, 0)
+        for n in names
+    }
+    rb_ms = mean["rbtrack-rbpf"][2]
+    if args.json:
+        print(json.dumps({"data": str(data), "particles": args.particles, "seed": args.seed,
+                          "opencv": cv2.__version__, "threads": args.threads,
+                          "sequences": {n: rows[n] for n in names},
+                          "mean": {n: dict(zip(("auc", "prec20", "ms_per_frame"), mean[n]))
+                                   for n in names}}, indent=1))
+        return
+    print(
+        f"{data}: {len(rows['CSRT'])} sequences; OpenCV {cv2.__version__} on {args.threads} "
+        f"thread(s); rbtrack N = {args.particles}, seed {args.seed}; means over sequences"
+    )
+    print()
+    print(f"{'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}  rbtrack-rbpf time / this")
+    print("-" * 66)
+    for n in names:
+        auc, prec, ms = mean[n]
+        ratio = rb_ms / ms if ms > 0 else math.inf
+        share = f"{ratio:8.3f}  (1/{1 / ratio:.0f})" if 0 < ratio < 1 else f"{ratio:8.3f}"
+        print(f"{n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}  {share}")
+    if args.per_sequence:
+        print()
+        print(f"{'sequence':16} {'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}")
+        for i, (seq, *_rest) in enumerate(rows["CSRT"]):
+            for n in names:
+                _, auc, prec, ms = rows[n][i]
+                print(f"{seq:16} {n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}")
+
+
+if __name__ == "__main__":
+    main()
