@@ -187,6 +187,14 @@ mod firmware {
                 t.sum[k] += v as u64;
                 t.max[k] = t.max[k].max(v);
             }
+            if r.pixels > run::pixel_bound(variant) {
+                panic!(
+                    "frame {}: {} pixels read, above the bound {}",
+                    r.frame,
+                    r.pixels,
+                    run::pixel_bound(variant)
+                );
+            }
             t.bound += self.cost.bound(r.pixels);
             t.pixels += r.pixels as u64;
             if r.frame == FRAMES {
@@ -389,10 +397,14 @@ mod firmware {
 
         let stack = board::stack_use();
         hprintln!(
-            "\nstack high-water mark: {} of {} bytes",
+            "\nstack high-water mark: {} of {} bytes (budget {})",
             stack.used,
-            stack.size
+            stack.size,
+            run::STACK_BUDGET_BYTES
         );
+        if stack.used > run::STACK_BUDGET_BYTES {
+            panic!("the stack outgrew its budget");
+        }
         hprintln!("checksum {:#018x}", checksum.value());
         debug::exit(debug::EXIT_SUCCESS);
         loop {

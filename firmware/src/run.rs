@@ -31,6 +31,17 @@ pub fn config(variant: Variant) -> Config {
     config
 }
 
+/// The pixels one step of `variant` may read, the core's documented bound
+/// `(N + 6) x pixels_per_window`; the firmware fails if a frame exceeds it.
+pub fn pixel_bound(variant: Variant) -> u32 {
+    (PARTICLES as u32 + 6) * config(variant).pixels_per_window
+}
+
+/// Stack the firmware may use, bytes: the run (tracker and frame state in `main`'s frame)
+/// plus headroom. The firmware paints the stack at reset and fails if the high-water mark
+/// after the run is above this.
+pub const STACK_BUDGET_BYTES: u32 = 96 * 1024;
+
 /// 64-bit FNV-1a over every estimate's fields, as little-endian 32-bit words.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Checksum(u64);

@@ -8,7 +8,7 @@
 
 use rbtrack::profile::NoCounter;
 use rbtrack::tracker::{Status, Variant};
-use rbtrack_firmware::run::{run_all, Checksum, FrameReport};
+use rbtrack_firmware::run::{pixel_bound, run_all, Checksum, FrameReport};
 use rbtrack_firmware::scene::{FRAMES, FRAME_BYTES};
 
 fn host_run(report: impl FnMut(Variant, &FrameReport)) -> Checksum {
@@ -26,8 +26,14 @@ fn host_reproduces_the_firmware_checksum() {
     let mut frames = 0;
     let mut lost = 0;
     let mut worst_error_px = 0.0f64;
-    let checksum = host_run(|_, r| {
+    let checksum = host_run(|variant, r| {
         frames += 1;
+        assert!(
+            r.pixels <= pixel_bound(variant),
+            "frame {}: {} pixels",
+            r.frame,
+            r.pixels
+        );
         lost += usize::from(r.estimate.status == Status::Lost);
         let dx = (r.estimate.ellipse.cx - r.truth.cx).to_f64();
         let dy = (r.estimate.ellipse.cy - r.truth.cy).to_f64();
