@@ -400,15 +400,17 @@ fn bins_of_run<const BPP: usize>(
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Gray8;
 
-/// RGB565, each pixel a little-endian `u16`.
+/// RGB565, each pixel a `u16`, big-endian when `BIG_ENDIAN` (cameras deliver either);
+/// use the aliases [`Rgb565Le`] and [`Rgb565Be`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Rgb565Le;
+pub struct Rgb565<const BIG_ENDIAN: bool>;
+
+/// RGB565, each pixel a little-endian `u16`.
+pub type Rgb565Le = Rgb565<false>;
 
 /// RGB565, each pixel a big-endian `u16`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Rgb565Be;
+pub type Rgb565Be = Rgb565<true>;
 
 /// 24-bit RGB, bytes in the order R, G, B.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -421,8 +423,7 @@ pub struct Rgb888;
 pub struct Yuv422;
 
 impl private::Sealed for Gray8 {}
-impl private::Sealed for Rgb565Le {}
-impl private::Sealed for Rgb565Be {}
+impl<const BIG_ENDIAN: bool> private::Sealed for Rgb565<BIG_ENDIAN> {}
 impl private::Sealed for Rgb888 {}
 impl private::Sealed for Yuv422 {}
 
@@ -458,19 +459,20 @@ fn rgb565_word(row: &[u8], x: usize, big_endian: bool) -> u16 {
     }
 }
 
-impl PixelFormat for Rgb565Le {
+impl<const BIG_ENDIAN: bool> PixelFormat for Rgb565<BIG_ENDIAN> {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = false;
     #[inline(always)]
     fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
         match (bytes.get(index), bytes.get(index.wrapping_add(1))) {
+            (Some(&a), Some(&b)) if BIG_ENDIAN => rgb565_luma(a, b),
             (Some(&lo), Some(&hi)) => rgb565_luma(hi, lo),
             _ => 0,
         }
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
-        Bn::from_rgb565(rgb565_word(row, x, false))
+        Bn::from_rgb565(rgb565_word(row, x, BIG_ENDIAN))
     }
     #[inline(always)]
     fn for_each_bin<Bn: Binning>(
@@ -485,40 +487,13 @@ impl PixelFormat for Rgb565Le {
             x0,
             step,
             count,
-            |&px| Bn::from_rgb565(u16::from_le_bytes(px)),
-            f,
-        )
-    }
-}
-
-impl PixelFormat for Rgb565Be {
-    const BYTES_PER_PIXEL: usize = 2;
-    const PAIRED: bool = false;
-    #[inline(always)]
-    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
-        match (bytes.get(index), bytes.get(index.wrapping_add(1))) {
-            (Some(&hi), Some(&lo)) => rgb565_luma(hi, lo),
-            _ => 0,
-        }
-    }
-    #[inline(always)]
-    fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
-        Bn::from_rgb565(rgb565_word(row, x, true))
-    }
-    #[inline(always)]
-    fn for_each_bin<Bn: Binning>(
-        row: &[u8],
-        x0: usize,
-        step: usize,
-        count: u32,
-        f: impl FnMut(u16),
-    ) {
-        bins_of_run::<2>(
-            row,
-            x0,
-            step,
-            count,
-            |&px| Bn::from_rgb565(u16::from_be_bytes(px)),
+            |&px| {
+                Bn::from_rgb565(if BIG_ENDIAN {
+                    u16::from_be_bytes(px)
+                } else {
+                    u16::from_le_bytes(px)
+                })
+            },
             f,
         )
     }
