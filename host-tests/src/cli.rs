@@ -20,7 +20,6 @@ use crate::progress::Progress;
 use crate::run::{self, Format, Options, Run, RunError};
 use crate::scene::{self, Scene, SceneConfig};
 use crate::sequence::{GtOrigin, Sequence};
-use rbtrack::fixed::Q16;
 use rbtrack::tracker::{ConfigError, Variant};
 use std::fmt::{self, Write as _};
 use std::path::{Path, PathBuf};
@@ -144,13 +143,14 @@ impl Default for Settings {
 }
 
 impl Settings {
-    /// Runner options for `kind`; `scale_per_row` is the ground-plane slope (px of
-    /// half-height per px down the image, 0 when unknown). The RBPF uses it, the PF ignores
-    /// it.
-    pub fn options(&self, kind: TrackerKind, scale_per_row: f64) -> Options {
+    /// Runner options for `kind`: the defaults, or for a synthetic `scene` what
+    /// [`Scene::configure`] sets (ground-plane slope, motion-adaptive noise).
+    pub fn options(&self, kind: TrackerKind, scene: Option<&Scene>) -> Options {
         let mut o = Options::new(kind.variant());
         o.config.seed = self.seed;
-        o.config.scale_per_row = Q16::from_f64(scale_per_row);
+        if let Some(scene) = scene {
+            scene.configure(&mut o.config);
+        }
         o.particles = self.particles;
         o.format = self.format;
         o
@@ -243,7 +243,7 @@ fn run_error(e: RunError) -> Failure {
 /// box for it (the initial box for frame 0), e.g. to draw it. Results carry no evaluation.
 pub fn run_trackers<I>(
     settings: &Settings,
-    scale_per_row: f64,
+    scene: Option<&Scene>,
     frames: I,
     init: &BBox,
     mut on_frame: impl FnMut(usize, &[u8], u32, u32, &[BBox]) -> Result<(), Failure>,
@@ -269,7 +269,7 @@ where
     let (rgb, w, h) = first?;
     let mut runners: Vec<Box<dyn Run>> = Vec::with_capacity(results.len());
     for r in &mut results {
-        let opts = settings.options(r.tracker, scale_per_row);
+        let opts = settings.options(r.tracker, scene);
         runners.push(run::start(&opts, &rgb, w as usize, h as usize, init).map_err(run_error)?);
         r.boxes.push(*init);
     }
@@ -341,7 +341,7 @@ pub fn track_sequence(
         .frames()
         .map(|f| f.map(|f| (f.rgb, f.width, f.height)).map_err(fail));
     let kinds = settings.trackers.clone();
-    let mut runs = run_trackers(settings, 0.0, frames, init, |i, rgb, w, h, boxes| {
+    let mut runs = run_trackers(settings, None, frames, init, |i, rgb, w, h, boxes| {
         if let Some(p) = progress.as_deref_mut() {
             p.inc(1);
         }
@@ -763,13 +763,18 @@ pub struct Demo {
 /// Frames of the demo's image strip.
 pub const STRIP_FRAMES: usize = 8;
 
-/// The demo: the synthetic `Perspective` scene (seed 1, QVGA, `frames` frames, at least
-/// 10), the RBPF and the colour PF with 100 particles (the RBPF given the scene's
-/// ground-plane slope), scored against the scene's ground truth. Writes into `out`:
+/// The demo: the synthetic scene `variant` (seed 1, QVGA, `frames` frames, at least 10),
+/// the RBPF and the colour PF with 100 particles and the scene's settings
+/// ([`Scene::configure`]), scored against the scene's ground truth. Writes into `out`:
 /// `strip.png` ([`STRIP_FRAMES`] evenly spaced frames), `demo.gif` (every second frame,
 /// if `gif`), `success.png` and `precision.png`.
-pub fn demo(out: &Path, frames: usize, gif: bool) -> Result<Demo, Failure> {
-    let mut config = SceneConfig::new(scene::Variant::Perspective, 1);
+pub fn demo(
+    out: &Path,
+    variant: scene::Variant,
+    frames: usize,
+    gif: bool,
+) -> Result<Demo, Failure> {
+    let mut config = SceneConfig::new(variant, 1);
     config.frames = frames;
     let scene = Scene::new(config).map_err(fail)?;
     let (w, h) = (scene.width(), scene.height());
@@ -789,7 +794,7 @@ pub fn demo(out: &Path, frames: usize, gif: bool) -> Result<Demo, Failure> {
     let kinds = settings.trackers.clone();
     let mut runs = run_trackers(
         &settings,
-        scene.scale_per_row(),
+        Some(&scene),
         rendered,
         &init,
         |i, rgb, w, h, boxes| {

@@ -7,6 +7,7 @@ pub mod faults;
 pub mod metrics;
 pub mod paper;
 pub mod progress;
+pub mod recovery;
 pub mod reference;
 pub mod run;
 pub mod scene;

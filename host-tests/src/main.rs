@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! rbtrack <subcommand> [options]
-//! rbtrack demo [--out DIR] [--frames N] [--no-gif]
+//! rbtrack demo [--out DIR] [--scene NAME] [--frames N] [--no-gif]
 //! rbtrack track SEQ_DIR [--tracker rbpf|pf] [--particles N] [--seed S] [--format F]
 //!               [--init x,y,w,h] [--boxes FILE] [--overlay DIR] [--json]
 //! rbtrack eval DATA_DIR [--tracker rbpf|pf|both] [--particles N] [--seed S] [--format F]
@@ -21,6 +21,7 @@ use rbtrack_host::metrics::BBox;
 use rbtrack_host::paper;
 use rbtrack_host::progress::Progress;
 use rbtrack_host::run::PARTICLE_COUNTS;
+use rbtrack_host::scene::Variant;
 use rbtrack_host::sequence::{self, Sequence};
 
 /// Top-level usage text.
@@ -29,7 +30,7 @@ const USAGE: &str = "usage: rbtrack <subcommand> [options]
 subcommands:
   demo    track the built-in synthetic scene with both trackers: metrics table, image
           strip, animated GIF, success and precision plots
-            rbtrack demo [--out DIR] [--frames N] [--no-gif]
+            rbtrack demo [--out DIR] [--scene NAME] [--frames N] [--no-gif]
   track   track one sequence folder (OTB layout: img/*.jpg|png, groundtruth_rect.txt)
             rbtrack track SEQ_DIR [--tracker rbpf|pf] [--particles N] [--seed S]
                   [--format rgb888|rgb565] [--init x,y,w,h] [--boxes FILE]
@@ -47,14 +48,16 @@ subcommands:
 run `rbtrack <subcommand> --help` for its options";
 
 /// Usage of `rbtrack demo`.
-const DEMO_USAGE: &str = "usage: rbtrack demo [--out DIR] [--frames N] [--no-gif]
+const DEMO_USAGE: &str = "usage: rbtrack demo [--out DIR] [--scene NAME] [--frames N] [--no-gif]
 
-Tracks the built-in synthetic scene (perspective walk, seed 1, 320x240) with the RBPF and
-the colour PF (100 particles each), prints a metrics table and writes into DIR:
-strip.png (8 frames), demo.gif (every second frame), success.png and precision.png.
-Ground truth is drawn as a green box, the RBPF's ellipse yellow, the PF's cyan.
+Tracks a built-in synthetic scene (seed 1, 320x240; the perspective walk unless --scene)
+with the RBPF and the colour PF (100 particles each, the scene's settings), prints a
+metrics table and writes into DIR: strip.png (8 frames), demo.gif (every second frame),
+success.png and precision.png. Ground truth is drawn as a green box, the RBPF's ellipse
+yellow, the PF's cyan.
 
   --out DIR      output folder, default out/demo
+  --scene NAME   perspective (default), distractor, occlusion, brightness, fast or leave
   --frames N     scene length, 10..=1000, default 100
   --no-gif       skip the animated GIF";
 
@@ -230,6 +233,7 @@ fn run_paper(args: impl Iterator<Item = String>) -> ExitCode {
 #[derive(Debug)]
 struct DemoArgs {
     out: PathBuf,
+    scene: Variant,
     frames: usize,
     gif: bool,
 }
@@ -237,6 +241,7 @@ struct DemoArgs {
 fn parse_demo(args: impl Iterator<Item = String>) -> Result<Option<DemoArgs>, CliError> {
     let mut out = DemoArgs {
         out: PathBuf::from("out/demo"),
+        scene: Variant::Perspective,
         frames: 100,
         gif: true,
     };
@@ -244,6 +249,15 @@ fn parse_demo(args: impl Iterator<Item = String>) -> Result<Option<DemoArgs>, Cl
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--out" => out.out = value_of("--out", args.next())?.into(),
+            "--scene" => {
+                let name = value_of("--scene", args.next())?;
+                out.scene = Variant::from_name(&name).ok_or_else(|| {
+                    CliError::Value(format!(
+                        "--scene: expected perspective, distractor, occlusion, brightness, \
+                         fast or leave, got {name:?}"
+                    ))
+                })?;
+            }
             "--frames" => out.frames = parse_range("--frames", args.next(), 10, 1000)?,
             "--no-gif" => out.gif = false,
             "-h" | "--help" => return Ok(None),
@@ -262,15 +276,18 @@ fn run_demo(args: impl Iterator<Item = String>) -> ExitCode {
         }
         Err(e) => return report("demo", DEMO_USAGE, e),
     };
-    let demo = match cli::demo(&opts.out, opts.frames, opts.gif) {
+    let demo = match cli::demo(&opts.out, opts.scene, opts.frames, opts.gif) {
         Ok(d) => d,
         Err(f) => return failed("demo", f),
     };
     let r = &demo.result;
     println!(
-        "synthetic scene: perspective walk, seed 1, {}x{} px, {} frames; 100 particles per \
-         tracker; ms/frame is tracking only\n",
-        r.width, r.height, r.frames
+        "synthetic scene: {}, seed 1, {}x{} px, {} frames; 100 particles per tracker; \
+         ms/frame is tracking only\n",
+        opts.scene.name(),
+        r.width,
+        r.height,
+        r.frames
     );
     print!("{}", cli::tracker_table(r));
     println!(

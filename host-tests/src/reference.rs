@@ -12,6 +12,8 @@
 //! Everything computed from the draws and the frame:
 //! - motion: `v <- keep v + sigma_v n`, `x <- x + v + sigma n` with
 //!   `sigma = position_noise + relative_noise (Hx + Hy) / 2`, centre clamped to the frame;
+//!   with `noise_gain`, both noises times `clamp(gain s / sigma(estimate), floor, 1)`, `s`
+//!   the innovation mean (`s += ((|dx| + |dy|) / 2 - s) / 8` after each tracking step);
 //! - colour PF size: both half-axes times `1 + sigma n`; RBPF leaf (eq. 7):
 //!   `Hy^- = Hy + dHy + k dy`, `Hx^- = Hx Hy^- / Hy`, rates `+ sigma n`; half-axes clamped
 //!   to `[min_half_axis, max(width, height) - 1]`;
@@ -304,6 +306,8 @@ pub struct ReferenceTracker<Bn: Binning> {
     cov: [Block; 2],
     estimate: RefEstimate,
     last_confident: RefEllipse,
+    /// Innovation mean, px (`noise_gain`); `None` until a step while tracking.
+    motion_spread: Option<f64>,
     weight_recoveries: u32,
     coupling: Coupling,
     binning: PhantomData<Bn>,
@@ -361,6 +365,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
                 status: Status::Tracking,
             },
             last_confident: init,
+            motion_spread: None,
             weight_recoveries: 0,
             coupling: Coupling::default(),
             binning: PhantomData,
@@ -498,11 +503,30 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         self.rng.normal().to_f64() * sigma
     }
 
-    fn drift(&mut self, p: &mut RefParticle, bounds: &Bounds) {
+    /// Unscaled position noise of a particle with half-axes `hy`, `hx`, px.
+    fn nominal_noise(&self, hy: f64, hx: f64) -> f64 {
         let c = &self.config;
-        let (keep, sigma_v) = (c.velocity_keep.to_f64(), c.velocity_noise.to_f64());
-        let sigma = c.position_noise.to_f64()
-            + c.relative_position_noise.to_f64() * (p.leaf[0] + p.leaf[2]) / 2.0;
+        c.position_noise.to_f64() + c.relative_position_noise.to_f64() * (hy + hx) / 2.0
+    }
+
+    /// Factor on both motion noises this frame (`noise_gain`).
+    fn noise_scale(&self) -> f64 {
+        let gain = self.config.noise_gain.to_f64();
+        match self.motion_spread {
+            Some(s) if gain > 0.0 && self.estimate.status == Status::Tracking => {
+                let e = &self.estimate.ellipse;
+                (gain * s / self.nominal_noise(e.hy, e.hx))
+                    .clamp(self.config.noise_floor.to_f64(), 1.0)
+            }
+            _ => 1.0,
+        }
+    }
+
+    fn drift(&mut self, p: &mut RefParticle, bounds: &Bounds) {
+        let f = self.noise_scale();
+        let c = &self.config;
+        let (keep, sigma_v) = (c.velocity_keep.to_f64(), f * c.velocity_noise.to_f64());
+        let sigma = f * self.nominal_noise(p.leaf[0], p.leaf[2]);
         let vmax = bounds.max_speed;
         p.vx = (keep * p.vx + self.gaussian(sigma_v)).clamp(-vmax, vmax);
         p.vy = (keep * p.vy + self.gaussian(sigma_v)).clamp(-vmax, vmax);
@@ -772,7 +796,18 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         };
         if estimate.status == Status::Tracking {
             self.last_confident = estimate.ellipse;
+            let last = &self.estimate;
+            let dx = estimate.ellipse.cx - (last.ellipse.cx + last.vx);
+            let dy = estimate.ellipse.cy - (last.ellipse.cy + last.vy);
+            let e = &estimate.ellipse;
+            let s = self
+                .motion_spread
+                .unwrap_or_else(|| self.nominal_noise(e.hy, e.hx));
+            self.motion_spread = Some(s + ((dx.abs() + dy.abs()) / 2.0 - s) / 8.0);
+        } else {
+            self.motion_spread = None;
         }
+        let c = &self.config;
         let rate = c.adapt_rate.to_f64();
         let empty = hist.iter().all(|&p| p == 0.0);
         if confidence >= c.adapt_above.to_f64() && rate > 0.0 && !empty {

@@ -27,6 +27,8 @@
 //! ```
 
 use crate::metrics::BBox;
+use rbtrack::fixed::Q16;
+use rbtrack::tracker::Config;
 use std::fmt;
 
 /// Colour of the target's upper half (shirt), RGB888.
@@ -345,6 +347,16 @@ impl Scene {
     /// (`d hy / d cy`, the RBPF's `alpha / beta`).
     pub fn scale_per_row(&self) -> f64 {
         SCALE_PER_ROW
+    }
+
+    /// Sets what an engineer who knows this scene would tell the tracker: the ground-plane
+    /// slope (`scale_per_row`) and, since the walkers move smoothly, motion-adaptive noise
+    /// (`noise_gain` 2, `noise_floor` 0.15), which keeps the particles on the target's
+    /// path when a look-alike crosses it. The rest of `config` is left as it is.
+    pub fn configure(&self, config: &mut Config) {
+        config.scale_per_row = Q16::from_f64(self.scale_per_row());
+        config.noise_gain = Q16::from_int(2);
+        config.noise_floor = Q16::from_f64(0.15);
     }
 
     /// Row of the horizon, px: the half-height is `scale_per_row * (cy - horizon_y)`.

@@ -319,6 +319,28 @@ fn demo_writes_files_and_prints_a_table() {
 }
 
 #[test]
+fn demo_runs_another_scene() {
+    let dir = temp_dir("demo-scene");
+    let out = dir.join("out");
+    let o = rbtrack(&[
+        "demo",
+        "--out",
+        path(&out),
+        "--scene",
+        "distractor",
+        "--frames",
+        "12",
+        "--no-gif",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.starts_with("synthetic scene: distractor,"), "{text}");
+    assert!(out.join("strip.png").is_file());
+    assert!(!out.join("demo.gif").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn track_json_boxes_and_overlay() {
     let dir = temp_dir("track");
     let seq = dir.join("Tiny");
@@ -472,6 +494,11 @@ fn errors_are_one_line_without_panic() {
         &rbtrack(&["demo", "--frames", "2"]),
         "bad --frames",
         "--frames",
+    );
+    assert_one_line_error(
+        &rbtrack(&["demo", "--scene", "crowd"]),
+        "bad --scene",
+        "crowd",
     );
 
     // Unreadable frame (after the first).

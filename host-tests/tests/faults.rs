@@ -75,7 +75,7 @@ fn run(variant: Variant, scene: &FaultyScene, seed: u64) -> Outcome {
     let (w, h) = (base.width() as usize, base.height() as usize);
     let mut options = Options::new(variant);
     options.config.seed = seed;
-    options.config.scale_per_row = Q16::from_f64(base.scale_per_row());
+    base.configure(&mut options.config);
     let first = scene.render(0).expect("frame");
     let mut runner = start(&options, &first, w, h, &base.boxes()[0]).expect("tracker starts");
     // The last frame where the target could not be plainly seen.

@@ -3,14 +3,13 @@
 //! particles; the estimates may differ only by arithmetic.
 //!
 //! Acceptance: over 100 frames of the perspective scene (seeds 1..=3 for the scene and the
-//! tracker, 100 particles, `scale_per_row` from the scene), the fixed-point centre stays
+//! tracker, 100 particles, the scene's settings: `Scene::configure`), the fixed-point centre stays
 //! within 0.5 px of the reference's on every frame. The reference adopts the core's
 //! discrete choices, its resampling ancestry and the RBPF's measured scale
 //! (`step_following`; see the `reference` module docs for why a reference making its own
 //! cannot stay in lock-step with any implementation whose weights differ by 1e-5). Half-axis differences and the independent run's figures
 //! are printed, not asserted.
 
-use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageView, Rgb888, Rgb8x8x8};
 use rbtrack::tracker::{Config, Tracker, Variant};
 use rbtrack::window::Ellipse;
@@ -68,7 +67,7 @@ fn compare(variant: Variant, seed: u64) -> Differences {
     let (w, h) = (scene.width() as usize, scene.height() as usize);
     let mut config = Config::new(variant);
     config.seed = seed;
-    config.scale_per_row = Q16::from_f64(scene.scale_per_row());
+    scene.configure(&mut config);
     let init = ellipse_of(&scene.boxes()[0]);
     let first = scene.render(0).unwrap();
     let frame = ImageView::<Rgb888>::new(&first, w, h, w).unwrap();

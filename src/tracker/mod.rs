@@ -10,7 +10,9 @@
 //!    random factor (colour PF) or predicted by eq. 7 of the RBPF paper, the half-height
 //!    following the vertical motion by `scale_per_row` and the aspect ratio kept (RBPF),
 //!    with one shared Kalman covariance prediction. While the status is not `Tracking`, a
-//!    share of the particles is first re-drawn uniformly over the frame.
+//!    share of the particles is first re-drawn uniformly over the frame. With
+//!    [`Config::noise_gain`] set, the motion noise narrows while the target moves as
+//!    predicted (see there).
 //! 2. **Weigh**: every particle's window gives a histogram, its Bhattacharyya coefficient
 //!    against the model gives the colour cost, the boundary gradient the gradient cost
 //!    (RBPF); `exp(-cost)` by table multiplies the particle's weight. Weights are then
@@ -120,7 +122,7 @@ pub struct Estimate {
 /// Its RAM is its `size_of`, all inline: 44 bytes per particle (state, weight, gradient
 /// cue, resampling scratch), about 14 bytes per bin (model, histogram, touched-bin list),
 /// the 6 KiB gradient memo ([`crate::cue::GradientMemo`]) and under 1 KiB more. With 512
-/// bins: 16,336 bytes at N = 50, 18,536 at N = 100, 22,936 at N = 200 on x86-64 (pinned
+/// bins: 16,352 bytes at N = 50, 18,552 at N = 100, 22,952 at N = 200 on x86-64 (pinned
 /// by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
@@ -144,6 +146,9 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     hist: Histogram<B>,
     estimate: Estimate,
     last_confident: Ellipse,
+    /// Mean recent innovation of the estimate against its constant-velocity prediction,
+    /// px, Q16.16 (see [`Config::noise_gain`]); `None` until the first step while tracking.
+    motion_spread: Option<Q16>,
     pixels_visited: u32,
     weight_recoveries: u32,
     binning: PhantomData<Bn>,
@@ -202,6 +207,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 status: Status::Tracking,
             },
             last_confident: init,
+            motion_spread: None,
             pixels_visited: 0,
             weight_recoveries: 0,
             binning: PhantomData,
@@ -245,6 +251,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             status: Status::Tracking,
         };
         self.last_confident = init;
+        self.motion_spread = None;
         self.memo.start_frame();
         Ok(())
     }
@@ -349,6 +356,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             relative_noise: self.config.relative_position_noise,
             velocity_noise: self.config.velocity_noise,
             velocity_keep: self.config.velocity_keep,
+            noise_scale: self.noise_scale(searching),
         };
         let rng = &mut self.rng;
         for p in self.particles.iter_mut() {
@@ -368,6 +376,38 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         if self.config.variant == Variant::Rbpf {
             self.leaf_cov.predict(Q16::ONE);
         }
+    }
+
+    /// The factor on the motion noise this frame: `clamp(noise_gain * s / sigma,
+    /// noise_floor, 1)` while tracking with a known innovation `s`, else 1.
+    fn noise_scale(&self, searching: bool) -> Q16 {
+        match self.motion_spread {
+            Some(spread) if !searching && self.config.noise_gain > Q16::ZERO => {
+                let sigma = self.nominal_noise(&self.estimate.ellipse);
+                (self.config.noise_gain * spread / sigma).clamp(self.config.noise_floor, Q16::ONE)
+            }
+            _ => Q16::ONE,
+        }
+    }
+
+    /// The innovation mean after `estimate`: the distance of its centre from the last
+    /// estimate moved by its velocity, `(|dx| + |dy|) / 2` px, averaged with weight 1/8
+    /// (starting from the unscaled noise, so the noise narrows gradually).
+    fn next_spread(&self, estimate: &Estimate) -> Q16 {
+        let last = &self.estimate;
+        let dx = estimate.ellipse.cx - (last.ellipse.cx + last.vx);
+        let dy = estimate.ellipse.cy - (last.ellipse.cy + last.vy);
+        let innovation = Q16::from_bits((dx.abs().to_bits() >> 1) + (dy.abs().to_bits() >> 1));
+        let spread = self
+            .motion_spread
+            .unwrap_or_else(|| self.nominal_noise(&estimate.ellipse));
+        spread + Q16::from_bits((innovation - spread).to_bits() >> 3)
+    }
+
+    /// The unscaled position noise of a particle on `e`, px.
+    fn nominal_noise(&self, e: &Ellipse) -> Q16 {
+        let size = Q16::from_bits((e.hy.to_bits() >> 1) + (e.hx.to_bits() >> 1));
+        self.config.position_noise + self.config.relative_position_noise * size
     }
 
     /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized
@@ -563,6 +603,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         };
         if estimate.status == Status::Tracking {
             self.last_confident = estimate.ellipse;
+            self.motion_spread = Some(self.next_spread(&estimate));
+        } else {
+            self.motion_spread = None;
         }
         if confidence >= self.config.adapt_above && self.config.adapt_rate > Q16::ZERO {
             self.model.update(&self.hist, self.config.adapt_rate);
@@ -582,5 +625,54 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             self.resampled = true;
         }
         self.weights = [WEIGHT_TOTAL / N as u32; N];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::{Gray8, Luma64};
+
+    /// A still bright square on a dark 64x48 frame, and a tracker of it.
+    fn still_target(noise_gain: Q16) -> ([u8; 64 * 48], Ellipse, Config) {
+        let mut buf = [40u8; 64 * 48];
+        for y in 14..34 {
+            buf[y * 64 + 22..y * 64 + 42].fill(220);
+        }
+        let init = Ellipse {
+            cx: Q16::from_f64(31.5),
+            cy: Q16::from_f64(23.5),
+            hx: Q16::from_int(10),
+            hy: Q16::from_int(10),
+        };
+        let mut config = Config::new(Variant::ColourPf);
+        config.noise_gain = noise_gain;
+        (buf, init, config)
+    }
+
+    #[test]
+    fn noise_narrows_on_a_predictable_target_and_only_when_asked() {
+        for gain in [Q16::ZERO, Q16::from_int(2)] {
+            let (buf, init, config) = still_target(gain);
+            let frame = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
+            let mut t = Tracker::<Luma64, 50, 64>::new(config, &frame, init).unwrap();
+            assert_eq!(
+                t.noise_scale(false),
+                Q16::ONE,
+                "nothing known before a step"
+            );
+            for _ in 0..60 {
+                assert_eq!(t.step(&frame).status, Status::Tracking);
+            }
+            assert_eq!(t.noise_scale(true), Q16::ONE, "full noise while searching");
+            let scale = t.noise_scale(false);
+            if gain == Q16::ZERO {
+                assert_eq!(scale, Q16::ONE);
+            } else {
+                // The estimate jitters well under the 4 px of unscaled noise.
+                assert!(scale < Q16::HALF, "{scale}");
+                assert!(scale >= config.noise_floor);
+            }
+        }
     }
 }

@@ -100,20 +100,24 @@ pub(crate) struct Motion {
     pub relative_noise: Q16,
     pub velocity_noise: Q16,
     pub velocity_keep: Q16,
+    /// Factor `f` on both noises, Q16.16 in `(0, 1]`.
+    pub noise_scale: Q16,
 }
 
 impl Motion {
     /// Constant-velocity drift with Gaussian noise:
-    /// `v <- keep v + sigma_v n` (each axis limited to a quarter of the frame's larger side
-    /// per frame), `x <- x + v + sigma n`, centre clamped to the frame, where
-    /// `sigma = position_noise + relative_noise * (Hx + Hy) / 2` grows with the target.
+    /// `v <- keep v + f sigma_v n` (each axis limited to a quarter of the frame's larger
+    /// side per frame), `x <- x + v + f sigma n`, centre clamped to the frame, where
+    /// `sigma = position_noise + relative_noise * (Hx + Hy) / 2` grows with the target and
+    /// `f` is `noise_scale`.
     #[inline]
     pub(crate) fn drift(&self, p: &mut Particle, rng: &mut Rng, bounds: &Bounds) {
         let vmax = bounds.max_speed;
-        p.vx = (self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
-        p.vy = (self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
+        let velocity_noise = self.velocity_noise * self.noise_scale;
+        p.vx = (self.velocity_keep * p.vx + rng.gaussian(velocity_noise)).clamp(-vmax, vmax);
+        p.vy = (self.velocity_keep * p.vy + rng.gaussian(velocity_noise)).clamp(-vmax, vmax);
         let size = Q16::from_bits((p.leaf[0].to_bits() >> 1) + (p.leaf[2].to_bits() >> 1));
-        let sigma = self.position_noise + self.relative_noise * size;
+        let sigma = (self.position_noise + self.relative_noise * size) * self.noise_scale;
         p.x = (p.x + p.vx + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_x);
         p.y = (p.y + p.vy + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_y);
     }
@@ -165,6 +169,7 @@ mod tests {
             relative_noise: Q16::ONE,
             velocity_noise: Q16::from_int(50),
             velocity_keep: Q16::ONE,
+            noise_scale: Q16::ONE,
         };
         let mut rng = Rng::new(5);
         let mut p = Particle::default();
