@@ -353,13 +353,15 @@ pub const MEMO_SLOTS: usize = 1024;
 
 /// A per-frame memo of squared gradient magnitudes for [`GradientCue::evaluate_memo`] and
 /// [`GradientCue::evaluate_each`]: [`MEMO_SLOTS`] direct-mapped slots keyed by pixel
-/// (slot `(x + 41 y) mod 1024`), each holding the pixel's index in the frame tagged with
-/// an 8-bit frame generation and `min(gx^2 + gy^2, 65535)` (exact for the cue whenever
-/// the saturation is at most 255, whose square fits: larger squares all score the
-/// saturation). A look-up is a hash, a load and a compare; a miss computes the gradient
-/// and replaces the slot's entry. Values are only ever read back for the same pixel of
-/// the same generation, so results never depend on the memo. 6 KiB; frames of `2^24`
-/// pixels or more, and saturations above 255, bypass it.
+/// (slot `(x + 32 y) mod 1024`: any 32 x 32 block of pixels, such as the samples of one
+/// boundary point across a particle cloud, maps to distinct slots), each holding the
+/// pixel's index in the frame tagged with an 8-bit frame generation and
+/// `min(gx^2 + gy^2, 65535)` (exact for the cue whenever the saturation is at most 255,
+/// whose square fits: larger squares all score the saturation). A look-up is a hash, a
+/// load and a compare; a miss computes the gradient and replaces the slot's entry. Values
+/// are only ever read back for the same pixel of the same generation, so results never
+/// depend on the memo. 6 KiB; frames of `2^24` pixels or more, and saturations above 255,
+/// bypass it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GradientMemo {
     /// `generation << 24 | (y width + x)`; never matches while the slot is empty (tags
@@ -437,7 +439,7 @@ impl<'m> Memoised<'m> {
         let (x, y) = (x as u32, y as u32);
         // y width + x < 2^24 for the frames the memo serves.
         let key = self.memo.tag | (y.wrapping_mul(self.width).wrapping_add(x) & 0xFF_FFFF);
-        let slot = (x.wrapping_add(y.wrapping_mul(41)) as usize) & (MEMO_SLOTS - 1);
+        let slot = (x.wrapping_add(y << 5) as usize) & (MEMO_SLOTS - 1);
         (slot, key)
     }
 
