@@ -298,13 +298,14 @@ impl GradientCue {
         // Positions are monotone in j, so the two ends bound the segment.
         let ((x0, y0), (x1, y1)) = (at(-search), at(search));
         let mut best = 0u32;
+        // (Half-open ranges: an inclusive one tests its exhaustion flag every step.)
         if taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1)) {
-            for j in -search..=search {
+            for j in -search..search + 1 {
                 let (x, y) = at(j);
                 best = best.max(sampler.interior(taps, x, y));
             }
         } else {
-            for j in -search..=search {
+            for j in -search..search + 1 {
                 let (x, y) = at(j);
                 if (0..w as i32).contains(&x) && (0..h as i32).contains(&y) {
                     best = best.max(sampler.clamped(img, x, y));
@@ -437,8 +438,8 @@ impl<'m> Memoised<'m> {
     #[inline(always)]
     fn slot(&self, x: i32, y: i32) -> (usize, u32) {
         let (x, y) = (x as u32, y as u32);
-        // y width + x < 2^24 for the frames the memo serves.
-        let key = self.memo.tag | (y.wrapping_mul(self.width).wrapping_add(x) & 0xFF_FFFF);
+        // y width + x < 2^24 for the frames the memo serves: no bit reaches the tag.
+        let key = self.memo.tag | y.wrapping_mul(self.width).wrapping_add(x);
         let slot = (x.wrapping_add(y << 5) as usize) & (MEMO_SLOTS - 1);
         (slot, key)
     }
