@@ -278,35 +278,42 @@ impl GradientCue {
         let (Some(&c), Some(&s)) = (self.cos.get(k), self.sin.get(k)) else {
             return 0;
         };
-        let (c, s) = (c.to_bits(), s.to_bits());
-        let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
+        let (c, s) = (c.to_bits(), s.to_bits()); // |.| <= 2^16
         let (hx, hy) = (e.hx.to_bits(), e.hy.to_bits()); // 2^15..2^31
-        let (w, h) = (img.width() as i64, img.height() as i64);
+        let (w, h) = (img.width() as i32, img.height() as i32); // <= MAX_SIDE < 2^14
         let search = self.search;
-        let reach = (search as i64 + 1) << 16; // beyond the search segment, px Q16
-        let bx = cx + ((hx as i64 * c as i64) >> 16);
-        let by = cy + ((hy as i64 * s as i64) >> 16);
+        // Beyond the search segment, px Q16.
+        let reach = (search + 1) << 16;
+        // The offsets h c / 2^16 are at most h < 2^31; a centre plus offset beyond the
+        // i32 range is far outside the frame.
+        let offset = |h: i32, c: i32| ((h as i64 * c as i64) >> 16) as i32;
+        let (Some(bx), Some(by)) = (
+            e.cx.to_bits().checked_add(offset(hx, c)),
+            e.cy.to_bits().checked_add(offset(hy, s)),
+        ) else {
+            return 0;
+        };
         // A segment wholly outside the frame has no sample in it (and this keeps the
         // positions below in i32).
         if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
             return 0;
         }
-        let (bx, by) = (bx as i32, by as i32);
         // The normal at angle t is along (cos t / hx, sin t / hy) ~ (cos t hy, sin t hx).
-        let (ux, uy) = unit_normal(c as i64 * hy as i64, s as i64 * hx as i64, c, s);
+        let (ux, uy) = unit_normal(c, s, hx, hy);
         let at = |j: i32| ((bx + j * ux + 0x8000) >> 16, (by + j * uy + 0x8000) >> 16);
         // Positions are monotone in j, so the two ends bound the segment.
         let ((x0, y0), (x1, y1)) = (at(-search), at(search));
         let mut best = 0u32;
+        // (Half-open ranges: an inclusive one tests its exhaustion flag every step.)
         if taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1)) {
-            for j in -search..=search {
+            for j in -search..search + 1 {
                 let (x, y) = at(j);
                 best = best.max(sampler.interior(taps, x, y));
             }
         } else {
-            for j in -search..=search {
+            for j in -search..search + 1 {
                 let (x, y) = at(j);
-                if (0..w as i32).contains(&x) && (0..h as i32).contains(&y) {
+                if (0..w).contains(&x) && (0..h).contains(&y) {
                     best = best.max(sampler.clamped(img, x, y));
                 }
             }
@@ -353,13 +360,15 @@ pub const MEMO_SLOTS: usize = 1024;
 
 /// A per-frame memo of squared gradient magnitudes for [`GradientCue::evaluate_memo`] and
 /// [`GradientCue::evaluate_each`]: [`MEMO_SLOTS`] direct-mapped slots keyed by pixel
-/// (slot `(x + 41 y) mod 1024`), each holding the pixel's index in the frame tagged with
-/// an 8-bit frame generation and `min(gx^2 + gy^2, 65535)` (exact for the cue whenever
-/// the saturation is at most 255, whose square fits: larger squares all score the
-/// saturation). A look-up is a hash, a load and a compare; a miss computes the gradient
-/// and replaces the slot's entry. Values are only ever read back for the same pixel of
-/// the same generation, so results never depend on the memo. 6 KiB; frames of `2^24`
-/// pixels or more, and saturations above 255, bypass it.
+/// (slot `(x + 32 y) mod 1024`: any 32 x 32 block of pixels, such as the samples of one
+/// boundary point across a particle cloud, maps to distinct slots), each holding the
+/// pixel's index in the frame tagged with an 8-bit frame generation and
+/// `min(gx^2 + gy^2, 65535)` (exact for the cue whenever the saturation is at most 255,
+/// whose square fits: larger squares all score the saturation). A look-up is a hash, a
+/// load and a compare; a miss computes the gradient and replaces the slot's entry. Values
+/// are only ever read back for the same pixel of the same generation, so results never
+/// depend on the memo. 6 KiB; frames of `2^24` pixels or more, and saturations above 255,
+/// bypass it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GradientMemo {
     /// `generation << 24 | (y width + x)`; never matches while the slot is empty (tags
@@ -435,9 +444,9 @@ impl<'m> Memoised<'m> {
     #[inline(always)]
     fn slot(&self, x: i32, y: i32) -> (usize, u32) {
         let (x, y) = (x as u32, y as u32);
-        // y width + x < 2^24 for the frames the memo serves.
-        let key = self.memo.tag | (y.wrapping_mul(self.width).wrapping_add(x) & 0xFF_FFFF);
-        let slot = (x.wrapping_add(y.wrapping_mul(41)) as usize) & (MEMO_SLOTS - 1);
+        // y width + x < 2^24 for the frames the memo serves: no bit reaches the tag.
+        let key = self.memo.tag | y.wrapping_mul(self.width).wrapping_add(x);
+        let slot = (x.wrapping_add(y << 5) as usize) & (MEMO_SLOTS - 1);
         (slot, key)
     }
 
@@ -497,25 +506,30 @@ fn magnitude(best: u32) -> u32 {
     isqrt32(best << (2 * MAG_FRAC_BITS))
 }
 
-/// The unit vector along `(nx, ny)` (each `< 2^63` in magnitude), Q16.16 components, by
-/// a table square root and two 32-bit divisions; `(c, s)` for the zero vector. Within
-/// 4e-5 of the exact direction.
+/// The unit vector along `(c hy, s hx)` (`|c|, |s| <= 2^16`, half-axes `hx, hy` in
+/// `2^15..2^31`), Q16.16 components, by a table square root and two 32-bit divisions;
+/// `(c, s)` for the zero vector. Within 4e-5 of the exact direction.
 #[inline(always)]
-fn unit_normal(nx: i64, ny: i64, c: i32, s: i32) -> (i32, i32) {
-    let (ax, ay) = (nx.unsigned_abs(), ny.unsigned_abs());
+fn unit_normal(c: i32, s: i32, hx: i32, hy: i32) -> (i32, i32) {
+    // Component magnitudes below 2^47.
+    let ax = c.unsigned_abs() as u64 * hy as u64;
+    let ay = s.unsigned_abs() as u64 * hx as u64;
     let longer = ax.max(ay);
     if longer == 0 {
         return (c, s);
     }
-    // Components below 2^16, the longer at least 2^15.
+    // Components below 2^16, the longer at least 2^15: shift 0..=31, so the low word of
+    // a >> shift is lo >> shift | hi << (32 - shift) (hi << 32 = 0 through two shifts).
     let shift = (64 - longer.leading_zeros()).saturating_sub(16);
-    let (ax, ay) = ((ax >> shift) as u32, (ay >> shift) as u32);
+    let down = |a: u64| ((a as u32) >> shift) | (((a >> 32) as u32) << 1 << (31 - shift));
+    let (ax, ay) = (down(ax), down(ay));
     // (a^2 + b^2) / 4 < 2^31; sqrt_q8 of it is the length times 128.
-    let len = ((sqrt_q8(((ax * ax) >> 2) + ((ay * ay) >> 2)) + 64) >> 7).max(1); // >= 2^15
-                                                                                 // a 2^16 + len / 2 < 2^32 - 2^16 + 2^15.6: no overflow; the quotient is <= 2^16 + 1.
+    // len >= 2^15, so a 2^16 + len / 2 < 2^32 - 2^16 + 2^15.6: no overflow; the quotient
+    // is <= 2^16 + 1.
+    let len = ((sqrt_q8(((ax * ax) >> 2) + ((ay * ay) >> 2)) + 64) >> 7).max(1);
     let unit = |a: u32| (((a << 16) + len / 2) / len).min(1 << 16) as i32;
     let (ux, uy) = (unit(ax), unit(ay));
-    (if nx < 0 { -ux } else { ux }, if ny < 0 { -uy } else { uy })
+    (if c < 0 { -ux } else { ux }, if s < 0 { -uy } else { uy })
 }
 
 /// Unclamped 5-tap gradients of a frame's interior.

@@ -145,12 +145,16 @@ const RGB565_LUMA_LO: [u16; 256] = {
     t
 };
 
+/// The two tables in one place, so that one base address serves both.
+static RGB565_LUMA: [[u16; 256]; 2] = [RGB565_LUMA_HI, RGB565_LUMA_LO];
+
 /// BT.601 full-range luma of an RGB565 word given as its high and low bytes: the same
 /// value as [`luma_of_rgb`] of [`rgb565_to_rgb888`], by two table look-ups (1 KiB of
 /// tables) instead of widening and three multiplies.
 #[inline(always)]
 pub fn rgb565_luma(hi: u8, lo: u8) -> u8 {
-    ((RGB565_LUMA_HI[hi as usize] as u32 + RGB565_LUMA_LO[lo as usize] as u32) >> 8) as u8
+    let [t_hi, t_lo] = &RGB565_LUMA;
+    ((t_hi[hi as usize] as u32 + t_lo[lo as usize] as u32) >> 8) as u8
 }
 
 /// BT.601 full-range (JFIF) YUV of 8-bit RGB; U and V are centred on 128, all 0..=255.
