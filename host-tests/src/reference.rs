@@ -476,10 +476,11 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         if searching {
             self.redetect(bounds);
         }
+        let scale = self.noise_scale();
         for i in 0..self.particles.len() {
             let mut p = self.particles[i];
             let y_before = p.y;
-            self.drift(&mut p, bounds);
+            self.drift(&mut p, scale, bounds);
             match self.config.variant {
                 Variant::ColourPf => self.scale_randomly(&mut p, bounds),
                 Variant::Rbpf => {
@@ -522,8 +523,8 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         }
     }
 
-    fn drift(&mut self, p: &mut RefParticle, bounds: &Bounds) {
-        let f = self.noise_scale();
+    /// Constant-velocity drift with both noises times `f` (`noise_scale`).
+    fn drift(&mut self, p: &mut RefParticle, f: f64, bounds: &Bounds) {
         let c = &self.config;
         let (keep, sigma_v) = (c.velocity_keep.to_f64(), f * c.velocity_noise.to_f64());
         let sigma = f * self.nominal_noise(p.leaf[0], p.leaf[2]);

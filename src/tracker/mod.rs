@@ -351,13 +351,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         } else {
             self.config.scale_noise
         };
-        let motion = Motion {
-            position_noise: self.config.position_noise,
-            relative_noise: self.config.relative_position_noise,
-            velocity_noise: self.config.velocity_noise,
-            velocity_keep: self.config.velocity_keep,
-            noise_scale: self.noise_scale(searching),
-        };
+        let motion = Motion::new(&self.config, self.noise_scale(searching));
         let rng = &mut self.rng;
         for p in self.particles.iter_mut() {
             let y_before = p.y;
@@ -406,8 +400,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     /// The unscaled position noise of a particle on `e`, px.
     fn nominal_noise(&self, e: &Ellipse) -> Q16 {
-        let size = Q16::from_bits((e.hy.to_bits() >> 1) + (e.hx.to_bits() >> 1));
-        self.config.position_noise + self.config.relative_position_noise * size
+        Motion::new(&self.config, Q16::ONE).position_sigma(e.hy, e.hx)
     }
 
     /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized

@@ -1,5 +1,6 @@
 //! Particle state and its motion model.
 
+use super::Config;
 use crate::fixed::Q16;
 use crate::rng::Rng;
 use crate::window::Ellipse;
@@ -100,24 +101,38 @@ pub(crate) struct Motion {
     pub relative_noise: Q16,
     pub velocity_noise: Q16,
     pub velocity_keep: Q16,
-    /// Factor `f` on both noises, Q16.16 in `(0, 1]`.
-    pub noise_scale: Q16,
 }
 
 impl Motion {
+    /// The motion model of `config` with its three noise levels times `scale` (the
+    /// frame's [`super::Config::noise_gain`] factor, 1 for none), Q16.16 in `(0, 1]`.
+    pub(crate) fn new(config: &Config, scale: Q16) -> Self {
+        Self {
+            position_noise: config.position_noise * scale,
+            relative_noise: config.relative_position_noise * scale,
+            velocity_noise: config.velocity_noise * scale,
+            velocity_keep: config.velocity_keep,
+        }
+    }
+
+    /// Position noise of a particle with half-axes `hy`, `hx`: `position_noise +
+    /// relative_noise * (Hx + Hy) / 2`, px, Q16.16.
+    #[inline]
+    pub(crate) fn position_sigma(&self, hy: Q16, hx: Q16) -> Q16 {
+        let size = Q16::from_bits((hy.to_bits() >> 1) + (hx.to_bits() >> 1));
+        self.position_noise + self.relative_noise * size
+    }
+
     /// Constant-velocity drift with Gaussian noise:
-    /// `v <- keep v + f sigma_v n` (each axis limited to a quarter of the frame's larger
-    /// side per frame), `x <- x + v + f sigma n`, centre clamped to the frame, where
-    /// `sigma = position_noise + relative_noise * (Hx + Hy) / 2` grows with the target and
-    /// `f` is `noise_scale`.
+    /// `v <- keep v + sigma_v n` (each axis limited to a quarter of the frame's larger side
+    /// per frame), `x <- x + v + sigma n`, centre clamped to the frame, where `sigma` is
+    /// [`Motion::position_sigma`], growing with the target.
     #[inline]
     pub(crate) fn drift(&self, p: &mut Particle, rng: &mut Rng, bounds: &Bounds) {
         let vmax = bounds.max_speed;
-        let velocity_noise = self.velocity_noise * self.noise_scale;
-        p.vx = (self.velocity_keep * p.vx + rng.gaussian(velocity_noise)).clamp(-vmax, vmax);
-        p.vy = (self.velocity_keep * p.vy + rng.gaussian(velocity_noise)).clamp(-vmax, vmax);
-        let size = Q16::from_bits((p.leaf[0].to_bits() >> 1) + (p.leaf[2].to_bits() >> 1));
-        let sigma = (self.position_noise + self.relative_noise * size) * self.noise_scale;
+        p.vx = (self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
+        p.vy = (self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
+        let sigma = self.position_sigma(p.leaf[0], p.leaf[2]);
         p.x = (p.x + p.vx + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_x);
         p.y = (p.y + p.vy + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_y);
     }
@@ -169,7 +184,6 @@ mod tests {
             relative_noise: Q16::ONE,
             velocity_noise: Q16::from_int(50),
             velocity_keep: Q16::ONE,
-            noise_scale: Q16::ONE,
         };
         let mut rng = Rng::new(5);
         let mut p = Particle::default();
