@@ -223,6 +223,7 @@ impl GradientCue {
     /// the windows do (a particle cloud), meet in `memo` and each pixel's gradient is
     /// computed about once. Call [`GradientMemo::start_frame`] before the first window of
     /// every new frame.
+    #[inline(never)]
     pub fn evaluate_each<P: PixelFormat>(
         &self,
         img: &ImageView<'_, P>,
@@ -284,28 +285,44 @@ impl GradientCue {
         let search = self.search;
         // Beyond the search segment, px Q16.
         let reach = (search + 1) << 16;
-        // The offsets h c / 2^16 are at most h < 2^31; a centre plus offset beyond the
-        // i32 range is far outside the frame.
+        // The offsets h c / 2^16 lie in [-h, h], h < 2^31.
         let offset = |h: i32, c: i32| ((h as i64 * c as i64) >> 16) as i32;
-        let (Some(bx), Some(by)) = (
-            e.cx.to_bits().checked_add(offset(hx, c)),
-            e.cy.to_bits().checked_add(offset(hy, s)),
-        ) else {
-            return 0;
+        // Every search position lies within `reach` of the box `c +- h` (|offset| <= h, the
+        // normal's components are at most 1), so a window whose box so widened has only
+        // interior pixels needs no test per point (the usual case, checked in 32 bits).
+        let (cx, cy) = (e.cx.to_bits(), e.cy.to_bits());
+        let inside = |c: i32, h: i32, side: i32| {
+            let margin = h.saturating_add(reach);
+            c.saturating_sub(margin) >= 2 << 16 && c.saturating_add(margin) < (side - 2) << 16
         };
-        // A segment wholly outside the frame has no sample in it (and this keeps the
-        // positions below in i32).
-        if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
-            return 0;
-        }
+        let interior = inside(cx, hx, w) && inside(cy, hy, h);
+        let (bx, by) = if interior {
+            (cx + offset(hx, c), cy + offset(hy, s))
+        } else {
+            // A centre plus offset beyond the i32 range is far outside the frame.
+            let (Some(bx), Some(by)) =
+                (cx.checked_add(offset(hx, c)), cy.checked_add(offset(hy, s)))
+            else {
+                return 0;
+            };
+            // A segment wholly outside the frame has no sample in it (and this keeps the
+            // positions below in i32).
+            if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
+                return 0;
+            }
+            (bx, by)
+        };
         // The normal at angle t is along (cos t / hx, sin t / hy) ~ (cos t hy, sin t hx).
         let (ux, uy) = unit_normal(c, s, hx, hy);
         let at = |j: i32| ((bx + j * ux + 0x8000) >> 16, (by + j * uy + 0x8000) >> 16);
         // Positions are monotone in j, so the two ends bound the segment.
-        let ((x0, y0), (x1, y1)) = (at(-search), at(search));
+        let ends_interior = || {
+            let ((x0, y0), (x1, y1)) = (at(-search), at(search));
+            taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1))
+        };
         let mut best = 0u32;
         // (Half-open ranges: an inclusive one tests its exhaustion flag every step.)
-        if taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1)) {
+        if interior || ends_interior() {
             for j in -search..search + 1 {
                 let (x, y) = at(j);
                 best = best.max(sampler.interior(taps, x, y));
