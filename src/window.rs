@@ -21,9 +21,10 @@
 //! (`<= 65535 * 65536`) always fits a `u32`.
 //!
 //! # Cost
-//! Per window: a few 64-bit divisions. Per row: one 32-bit integer square root (a table
-//! look-up and a correction, no bit-by-bit loop) and a few multiplies. Per pixel: two
-//! additions, a shift, a clamp and the caller's closure; no multiply, no division.
+//! Per window: two 64-by-32-bit divisions done by 32-bit ones ([`div_u64_u32`]). Per row:
+//! one 32-bit integer square root (a table look-up and a correction, no bit-by-bit loop)
+//! and a few multiplies. Per pixel: two additions, a shift, a clamp and the caller's
+//! closure; no multiply, no division.
 //!
 //! # Degenerate and clipped windows
 //! A window with a half-axis below [`MIN_HALF_AXIS`] (0.5 px; zero and negative included)
@@ -45,7 +46,7 @@
 //! # Ok::<(), rbtrack::image::ImageError>(())
 //! ```
 
-use crate::fixed::Q16;
+use crate::fixed::{div_u64_u32, Q16};
 use crate::image::{ImageView, PixelFormat, Row};
 
 /// Kernel weight of the ellipse centre, 1.0 in Q0.16.
@@ -224,7 +225,7 @@ where
 /// chosen for `cap`). Returns the number of points.
 ///
 /// Per row: one exact 32-bit table square root ([`crate::hist::isqrt32`]) and a few
-/// multiplies; per window, [`sampling_step`] and two 64-bit divisions.
+/// multiplies; per window, [`sampling_step`] and two [`div_u64_u32`].
 #[inline(always)]
 pub(crate) fn rows<'a, P, F>(
     img: &ImageView<'a, P>,
@@ -263,8 +264,8 @@ where
 
     // Reciprocal half-axes, 2^62 / h (2^31..2^47): (v - c) * inv >> 32 is (v - c) / h in
     // Q2.30 for |v - c| <= h, with a relative error below 2^-31.
-    let inv_hx = (1u64 << 62).checked_div(hx as u64).unwrap_or(0) as i64;
-    let inv_hy = (1u64 << 62).checked_div(hy as u64).unwrap_or(0) as i64;
+    let inv_hx = div_u64_u32(1 << 62, hx) as i64;
+    let inv_hy = div_u64_u32(1 << 62, hy) as i64;
     // The lattice step in normalised x and y, Q2.30; past one point per row (column) the
     // step is unused, so clamping it keeps the loops in `i32`.
     let step_q30 = |inv: i64| ((s as u64 * inv as u64) >> 16).min(i32::MAX as u64) as i32;
