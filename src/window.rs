@@ -186,11 +186,11 @@ impl RowWeights {
 }
 
 /// One row's part of a window: the lattice points `x0, x0 + step, ...` (`count` of them,
-/// all inside the frame and strictly inside the ellipse's chord) of `row`, with their
+/// all inside the frame and strictly inside the ellipse's chord) of row `y`, with their
 /// kernel weights.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct RowRun<'a, P: PixelFormat> {
-    pub row: Row<'a, P>,
+pub(crate) struct RowRun {
+    pub y: usize,
     pub x0: usize,
     pub step: usize,
     pub count: u32,
@@ -212,9 +212,10 @@ where
     F: FnMut(&Row<'a, P>, usize, u32),
 {
     rows(img, e, cap, limit, |mut run| {
+        let row = img.row(run.y);
         let mut x = run.x0;
         for _ in 0..run.count {
-            f(&run.row, x, run.weights.next());
+            f(&row, x, run.weights.next());
             x += run.step;
         }
     })
@@ -227,16 +228,10 @@ where
 /// Per row: one exact 32-bit table square root ([`crate::hist::isqrt32`]) and a few
 /// multiplies; per window, [`sampling_step`] and two [`div_u64_u32`].
 #[inline(always)]
-pub(crate) fn rows<'a, P, F>(
-    img: &ImageView<'a, P>,
-    e: &Ellipse,
-    cap: u32,
-    limit: u32,
-    mut f: F,
-) -> u32
+pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, limit: u32, mut f: F) -> u32
 where
     P: PixelFormat,
-    F: FnMut(RowRun<'a, P>),
+    F: FnMut(RowRun),
 {
     let s = sampling_step(e, cap);
     if s == 0 {
@@ -304,7 +299,7 @@ where
                                      // overflows; for k = 0 the product is 0.
             let t0 = tc.wrapping_add(k_lo.wrapping_mul(dt));
             f(RowRun {
-                row: img.row(y),
+                y,
                 x0: x0 as usize,
                 step: s as usize,
                 count,
