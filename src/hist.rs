@@ -189,7 +189,7 @@ impl<const B: usize> Histogram<B> {
     ///
     /// Cost per pixel: the bin, the kernel weight, a load, compare and store of the bin's
     /// count (no saturation: one window's mass is below `2^32`); the pixels of a row are
-    /// read as one slice.
+    /// read as one slice of the frame.
     #[inline]
     pub fn fill<Bn: Binning, P: PixelFormat>(
         &mut self,
@@ -201,21 +201,23 @@ impl<const B: usize> Histogram<B> {
         self.clear();
         let (counts, touched) = (&mut self.counts, &mut self.touched);
         let cap = cap.min(MAX_CAP);
+        let (frame, stride) = (img.as_bytes(), img.stride());
         let n = rows(img, e, cap, cap, |run| {
             let mut weights = run.weights;
-            run.row
-                .for_each_bin::<Bn>(run.x0, run.step, run.count, |bin| {
-                    let w = weights.next();
-                    if let Some(c) = counts.get_mut(bin as usize) {
-                        if *c == 0 && w != 0 {
-                            // Cannot fail: a bin enters the list once, while its count is zero.
-                            let _ = touched.push(bin);
-                        }
-                        // One window's mass is below 2^32 (window::MAX_CAP pixels of weight at
-                        // most 2^16), so no count of a cleared histogram can wrap.
-                        *c = c.wrapping_add(w);
+            // The run's pixels counted from the frame's start: one slice, no row slice.
+            let first = run.y * stride + run.x0;
+            P::for_each_bin::<Bn>(frame, first, run.step, run.count, |bin| {
+                let w = weights.next();
+                if let Some(c) = counts.get_mut(bin as usize) {
+                    if *c == 0 && w != 0 {
+                        // Cannot fail: a bin enters the list once, while its count is zero.
+                        let _ = touched.push(bin);
                     }
-                });
+                    // One window's mass is below 2^32 (window::MAX_CAP pixels of weight at
+                    // most 2^16), so no count of a cleared histogram can wrap.
+                    *c = c.wrapping_add(w);
+                }
+            });
         });
         self.mass = touched
             .iter()

@@ -324,7 +324,8 @@ pub trait PixelFormat: private::Sealed + Copy + core::fmt::Debug + 'static {
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16;
     /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` of `row` (px,
     /// `step >= 1`), left to right, as [`PixelFormat::bin_at`] would give them; the
-    /// fixed-size formats read them without a bounds check per pixel.
+    /// fixed-size formats read them without a bounds check per pixel. `row` may also be
+    /// a whole frame, with `x0` counted from its start (`y stride + x`).
     #[inline(always)]
     fn for_each_bin<Bn: Binning>(
         row: &[u8],

@@ -21,9 +21,10 @@
 //! (`<= 65535 * 65536`) always fits a `u32`.
 //!
 //! # Cost
-//! Per window: a few 64-bit divisions. Per row: one 32-bit integer square root (a table
-//! look-up and a correction, no bit-by-bit loop) and a few multiplies. Per pixel: two
-//! additions, a shift, a clamp and the caller's closure; no multiply, no division.
+//! Per window: two 64-by-32-bit divisions done by 32-bit ones ([`div_u64_u32`]). Per row:
+//! one 32-bit integer square root (a table look-up and a correction, no bit-by-bit loop)
+//! and a few multiplies. Per pixel: two additions, a shift, a clamp and the caller's
+//! closure; no multiply, no division.
 //!
 //! # Degenerate and clipped windows
 //! A window with a half-axis below [`MIN_HALF_AXIS`] (0.5 px; zero and negative included)
@@ -45,7 +46,7 @@
 //! # Ok::<(), rbtrack::image::ImageError>(())
 //! ```
 
-use crate::fixed::Q16;
+use crate::fixed::{div_u64_u32, Q16};
 use crate::image::{ImageView, PixelFormat, Row};
 
 /// Kernel weight of the ellipse centre, 1.0 in Q0.16.
@@ -185,11 +186,11 @@ impl RowWeights {
 }
 
 /// One row's part of a window: the lattice points `x0, x0 + step, ...` (`count` of them,
-/// all inside the frame and strictly inside the ellipse's chord) of `row`, with their
+/// all inside the frame and strictly inside the ellipse's chord) of row `y`, with their
 /// kernel weights.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct RowRun<'a, P: PixelFormat> {
-    pub row: Row<'a, P>,
+pub(crate) struct RowRun {
+    pub y: usize,
     pub x0: usize,
     pub step: usize,
     pub count: u32,
@@ -211,9 +212,10 @@ where
     F: FnMut(&Row<'a, P>, usize, u32),
 {
     rows(img, e, cap, limit, |mut run| {
+        let row = img.row(run.y);
         let mut x = run.x0;
         for _ in 0..run.count {
-            f(&run.row, x, run.weights.next());
+            f(&row, x, run.weights.next());
             x += run.step;
         }
     })
@@ -224,18 +226,12 @@ where
 /// chosen for `cap`). Returns the number of points.
 ///
 /// Per row: one exact 32-bit table square root ([`crate::hist::isqrt32`]) and a few
-/// multiplies; per window, [`sampling_step`] and two 64-bit divisions.
+/// multiplies; per window, [`sampling_step`] and two [`div_u64_u32`].
 #[inline(always)]
-pub(crate) fn rows<'a, P, F>(
-    img: &ImageView<'a, P>,
-    e: &Ellipse,
-    cap: u32,
-    limit: u32,
-    mut f: F,
-) -> u32
+pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, limit: u32, mut f: F) -> u32
 where
     P: PixelFormat,
-    F: FnMut(RowRun<'a, P>),
+    F: FnMut(RowRun),
 {
     let s = sampling_step(e, cap);
     if s == 0 {
@@ -263,8 +259,8 @@ where
 
     // Reciprocal half-axes, 2^62 / h (2^31..2^47): (v - c) * inv >> 32 is (v - c) / h in
     // Q2.30 for |v - c| <= h, with a relative error below 2^-31.
-    let inv_hx = (1u64 << 62).checked_div(hx as u64).unwrap_or(0) as i64;
-    let inv_hy = (1u64 << 62).checked_div(hy as u64).unwrap_or(0) as i64;
+    let inv_hx = div_u64_u32(1 << 62, hx) as i64;
+    let inv_hy = div_u64_u32(1 << 62, hy) as i64;
     // The lattice step in normalised x and y, Q2.30; past one point per row (column) the
     // step is unused, so clamping it keeps the loops in `i32`.
     let step_q30 = |inv: i64| ((s as u64 * inv as u64) >> 16).min(i32::MAX as u64) as i32;
@@ -303,7 +299,7 @@ where
                                      // overflows; for k = 0 the product is 0.
             let t0 = tc.wrapping_add(k_lo.wrapping_mul(dt));
             f(RowRun {
-                row: img.row(y),
+                y,
                 x0: x0 as usize,
                 step: s as usize,
                 count,
