@@ -283,7 +283,7 @@ pub fn div_u64_u32(n: u64, d: u32) -> u64 {
     let s = d.leading_zeros();
     let v = d << s;
     let (v1, v0) = (v >> 16, v & 0xFFFF); // v1 >= 2^15
-    let u32_ = (r << s) | (lo >> 1 >> (31 - s)); // the top 32 bits of (r : lo) << s
+    let top = (r << s) | (lo >> 1 >> (31 - s)); // the top 32 bits of (r : lo) << s
     let u10 = lo << s;
     // One 16-bit digit of (u 2^16 + next) / v from u < v: estimated from the top
     // halves, then lowered at most twice.
@@ -301,7 +301,7 @@ pub fn div_u64_u32(n: u64, d: u32) -> u64 {
         let rem = (u << 16 | next).wrapping_sub(q.wrapping_mul(v));
         (q, rem)
     };
-    let (q1, rem) = digit(u32_, u10 >> 16);
+    let (q1, rem) = digit(top, u10 >> 16);
     let (q0, _) = digit(rem, u10 & 0xFFFF);
     (q_hi as u64) << 32 | (q1 << 16 | q0) as u64
 }
