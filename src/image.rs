@@ -1,9 +1,9 @@
 //! Borrowed camera frames ([`ImageView`]), their pixel formats and the colour-bin mappings.
 //!
-//! A frame is a `&[u8]` with a width, a height and a row stride, all in pixels, checked
-//! once by [`ImageView::new`] (in the manner of a checked packet view): after that no
-//! accessor can panic, and reads outside the frame are clamped or empty, never out of
-//! bounds.
+//! A frame is a `&[u8]` (or the `&[u32]` a DMA engine fills, [`ImageView::from_words`])
+//! with a width, a height and a row stride, all in pixels, checked once by
+//! [`ImageView::new`] (in the manner of a checked packet view): after that no accessor can
+//! panic, and reads outside the frame are clamped or empty, never out of bounds.
 //!
 //! # Pixel formats
 //! Sealed marker types implementing [`PixelFormat`]:
@@ -14,10 +14,12 @@
 //! | [`Rgb565Le`] | 2 | `u16` little-endian, `RRRRRGGG GGGBBBBB` |
 //! | [`Rgb565Be`] | 2 | `u16` big-endian, same bits |
 //! | [`Rgb888`] | 3 | R, G, B |
-//! | [`Yuv422`] | 2 | YUYV: `Y0 U Y1 V` per pixel pair (width and stride even) |
+//! | [`Yuyv`] (= [`Yuv422`]) | 2 | `Y0 U Y1 V` per pixel pair (width and stride even) |
+//! | [`Uyvy`] | 2 | `U Y0 V Y1` per pixel pair (width and stride even) |
 //!
-//! Luma is BT.601 full range: `Y = (77 R + 150 G + 29 B + 128) >> 8` (0..=255, white is
-//! 255); for [`Yuv422`] it is the Y byte. RGB565 channels widen to 8 bits by bit
+//! Which format a sensor delivers is set by its registers: `docs/camera.md` lists the
+//! common ones. Luma is BT.601 full range: `Y = (77 R + 150 G + 29 B + 128) >> 8` (0..=255,
+//! white is 255); for YUV 4:2:2 it is the Y byte. RGB565 channels widen to 8 bits by bit
 //! replication (`r8 = r5 << 3 | r5 >> 2`); the luma of an RGB565 pixel is read from two
 //! 256-entry tables indexed by its two bytes ([`rgb565_luma`], the same value).
 //!
@@ -74,7 +76,7 @@ pub enum ImageError {
     TooLarge,
     /// Stride (px) is smaller than the width.
     StrideTooSmall,
-    /// [`Yuv422`] needs an even width and an even stride (whole `Y0 U Y1 V` pairs).
+    /// [`Yuv422`] needs an even width and an even stride (whole pixel pairs).
     OddYuvSize,
     /// The buffer is shorter than `((height - 1) * stride + width) * bytes_per_pixel`.
     BufferTooShort,
@@ -422,15 +424,23 @@ pub type Rgb565Be = Rgb565<true>;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rgb888;
 
-/// YUV 4:2:2 as YUYV: `Y0 U Y1 V` for each pair of pixels, which share U and V.
+/// YUV 4:2:2: each pair of pixels in four bytes, sharing U and V, as `Y0 U Y1 V` (YUYV)
+/// or, when `CHROMA_FIRST`, `U Y0 V Y1` (UYVY); sensors deliver either. Use the aliases
+/// [`Yuyv`] and [`Uyvy`]; `Yuv422` alone is YUYV.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Yuv422;
+pub struct Yuv422<const CHROMA_FIRST: bool = false>;
+
+/// YUV 4:2:2 as `Y0 U Y1 V` per pixel pair.
+pub type Yuyv = Yuv422<false>;
+
+/// YUV 4:2:2 as `U Y0 V Y1` per pixel pair.
+pub type Uyvy = Yuv422<true>;
 
 impl private::Sealed for Gray8 {}
 impl<const BIG_ENDIAN: bool> private::Sealed for Rgb565<BIG_ENDIAN> {}
 impl private::Sealed for Rgb888 {}
-impl private::Sealed for Yuv422 {}
+impl<const CHROMA_FIRST: bool> private::Sealed for Yuv422<CHROMA_FIRST> {}
 
 impl PixelFormat for Gray8 {
     const BYTES_PER_PIXEL: usize = 1;
@@ -544,18 +554,29 @@ impl PixelFormat for Rgb888 {
     }
 }
 
-impl PixelFormat for Yuv422 {
+impl<const CHROMA_FIRST: bool> PixelFormat for Yuv422<CHROMA_FIRST> {
     const BYTES_PER_PIXEL: usize = 2;
     const PAIRED: bool = true;
     #[inline(always)]
     fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
-        bytes.get(index).copied().unwrap_or(0)
+        // A pixel's two bytes are `Y C` (YUYV) or `C Y` (UYVY).
+        bytes
+            .get(index.wrapping_add(CHROMA_FIRST as usize))
+            .copied()
+            .unwrap_or(0)
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
         let pair = 2 * (x & !1);
         match row.get(pair..pair + 4) {
-            Some(&[y0, u, y1, v]) => Bn::from_yuv(if x & 1 == 0 { y0 } else { y1 }, u, v),
+            Some(&[a, b, c, d]) => {
+                let [y0, u, y1, v] = if CHROMA_FIRST {
+                    [b, a, d, c]
+                } else {
+                    [a, b, c, d]
+                };
+                Bn::from_yuv(if x & 1 == 0 { y0 } else { y1 }, u, v)
+            }
             _ => 0,
         }
     }
@@ -628,6 +649,38 @@ impl<'a, P: PixelFormat> ImageView<'a, P> {
             stride,
             _format: PhantomData,
         })
+    }
+
+    /// Checks and wraps a frame held in 32-bit words, as a DMA engine fills them, without
+    /// a copy: [`ImageView::new`] over the words' bytes in memory order.
+    ///
+    /// A camera interface such as the STM32 DCMI packs four received bytes into each word,
+    /// the first in bits 7..0, so on a little-endian core (every Cortex-M with a camera
+    /// interface) word `w` holds the bytes `w.to_le_bytes()`, in the order the sensor sent
+    /// them: choose the pixel format for that byte order (`Rgb565Be` for a sensor that
+    /// sends the high byte first). Rows padded to whole words are a stride above the
+    /// width (px).
+    ///
+    /// # Arguments
+    /// - `words`: the pixels, row after row; may be longer than needed.
+    /// - `width`, `height`, `stride`: as for [`ImageView::new`] (px).
+    ///
+    /// # Examples
+    /// ```
+    /// use rbtrack::image::{ImageView, Rgb565Be};
+    /// // Red (0xF800) then green (0x07E0), each sent high byte first: F8 00 07 E0.
+    /// let dma = [u32::from_le_bytes([0xF8, 0x00, 0x07, 0xE0])];
+    /// let img = ImageView::<Rgb565Be>::from_words(&dma, 2, 1, 2)?;
+    /// assert_eq!((img.luma(0, 0), img.luma(1, 0)), (77, 149));
+    /// # Ok::<(), rbtrack::image::ImageError>(())
+    /// ```
+    pub fn from_words(
+        words: &'a [u32],
+        width: usize,
+        height: usize,
+        stride: usize,
+    ) -> Result<Self, ImageError> {
+        Self::new(bytemuck::must_cast_slice(words), width, height, stride)
     }
 
     /// Width, px, `1..=MAX_SIDE`.
@@ -875,6 +928,62 @@ mod tests {
         // B = 235 + ((50848+128)>>8) = 434 -> 255.
         assert_eq!(yuv_to_rgb(235, 240, 16), (78, 255, 255));
         assert_eq!(img.bin::<Rgb8x8x8>(1, 0), (2 << 6) | (7 << 3) | 7);
+
+        // UYVY: the same two pixels, chroma first.
+        let uyvy = ImageView::<Uyvy>::new(&[240, 16, 16, 235], 2, 1, 2).unwrap();
+        assert_eq!((uyvy.luma(0, 0), uyvy.luma(1, 0)), (16, 235));
+        assert_eq!(uyvy.row(0).luma(2), 0); // past the row end
+        for x in 0..2 {
+            assert_eq!(uyvy.bin::<Yuv8x8x4>(x, 0), img.bin::<Yuv8x8x4>(x, 0));
+            assert_eq!(uyvy.bin::<Rgb8x8x8>(x, 0), img.bin::<Rgb8x8x8>(x, 0));
+        }
+    }
+
+    /// Words as a DMA engine fills them: bytes in memory order, rows padded to whole words.
+    #[test]
+    #[allow(clippy::identity_op)]
+    fn words_are_bytes_in_memory_order() {
+        // 3 x 2 RGB565, sent high byte first, each row padded to 8 bytes (stride 4 px).
+        // Row 0: red F800, green 07E0, blue 001F; row 1: white, black, grey 8410.
+        let words = [
+            0xE007_00F8, // F8 00 | 07 E0
+            0xEEEE_1F00, // 00 1F | padding
+            0x0000_FFFF, // FF FF | 00 00
+            0xEEEE_1084, // 84 10 | padding
+        ];
+        let img = ImageView::<Rgb565Be>::from_words(&words, 3, 2, 4).unwrap();
+        assert_eq!(
+            img.as_bytes(),
+            &[
+                0xF8, 0x00, 0x07, 0xE0, 0x00, 0x1F, 0xEE, 0xEE, 0xFF, 0xFF, 0x00, 0x00, 0x84, 0x10,
+                0xEE, 0xEE
+            ]
+        );
+        assert_eq!(img.row(1).bytes(), &[0xFF, 0xFF, 0x00, 0x00, 0x84, 0x10]);
+        // Red 77, green 149, blue (29 * 255 + 128) >> 8 = 29; white, black, grey:
+        // 0x8410 widens to (132, 130, 132), luma (10164 + 19500 + 3828 + 128) >> 8 = 131.
+        let lumas = [[77, 149, 29], [255, 0, 131]];
+        for (y, row) in lumas.iter().enumerate() {
+            for (x, &luma) in row.iter().enumerate() {
+                assert_eq!(img.luma(x as i32, y as i32), luma, "({x}, {y})");
+            }
+        }
+        assert_eq!(img.luma(3, 0), 29); // clamped to x = 2, not the padding
+        assert_eq!(img.bin::<Rgb8x8x8>(2, 0), 0b000_000_111);
+
+        // YUYV and UYVY words: (Y=16, U=240, V=16) and (Y=235, U=240, V=16) as above.
+        let yuyv = ImageView::<Yuyv>::from_words(&[0x10EB_F010], 2, 1, 2).unwrap();
+        let uyvy = ImageView::<Uyvy>::from_words(&[0xEB10_10F0], 2, 1, 2).unwrap();
+        assert_eq!((yuyv.luma(0, 0), yuyv.luma(1, 0)), (16, 235));
+        assert_eq!((uyvy.luma(0, 0), uyvy.luma(1, 0)), (16, 235));
+        assert_eq!(uyvy.bin::<Yuv8x8x4>(1, 0), (7 << 5) | (0 << 2) | 3);
+
+        // The check is that of `new`, in bytes: 3 px of the last row need 6 of its 8.
+        assert_eq!(
+            ImageView::<Rgb565Be>::from_words(&words[..3], 3, 2, 4).unwrap_err(),
+            ImageError::BufferTooShort
+        );
+        assert!(ImageView::<Rgb565Be>::from_words(&words[..3], 2, 2, 4).is_ok());
     }
 
     /// Runs of bins equal the bins one by one, every format, every step, at and past the
@@ -908,7 +1017,8 @@ mod tests {
         check::<Rgb565Le>(2);
         check::<Rgb565Be>(2);
         check::<Rgb888>(3);
-        check::<Yuv422>(2);
+        check::<Yuyv>(2);
+        check::<Uyvy>(2);
     }
 
     #[test]

@@ -84,8 +84,10 @@ pub enum Format {
     Rgb565Be,
     /// `Rgb888`.
     Rgb888,
-    /// `Yuv422`.
-    Yuv422,
+    /// `Yuyv`.
+    Yuyv,
+    /// `Uyvy`.
+    Uyvy,
 }
 
 impl Format {
@@ -120,8 +122,12 @@ macro_rules! with_format {
                 type $p = rbtrack::image::Rgb888;
                 $body
             }
-            $crate::Format::Yuv422 => {
-                type $p = rbtrack::image::Yuv422;
+            $crate::Format::Yuyv => {
+                type $p = rbtrack::image::Yuyv;
+                $body
+            }
+            $crate::Format::Uyvy => {
+                type $p = rbtrack::image::Uyvy;
                 $body
             }
         }

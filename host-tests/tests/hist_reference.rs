@@ -11,7 +11,7 @@
 
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
-use rbtrack::image::{ImageView, PixelFormat, Rgb565Le, Rgb8x8x8, Yuv422, Yuv8x8x4};
+use rbtrack::image::{ImageView, PixelFormat, Rgb565Le, Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv};
 use rbtrack::rng::Rng;
 use rbtrack::window::{visit, Ellipse};
 
@@ -81,14 +81,16 @@ fn rgb565_bin(row: &[u8], x: usize) -> usize {
     ((r5 >> 2) << 6) | ((g6 >> 3) << 3) | (b5 >> 2)
 }
 
-/// Bin of YUYV pixel `x` by the top 3 bits of U and V and the top 2 of its Y.
-fn yuyv_bin(row: &[u8], x: usize) -> usize {
+/// Bin of YUV 4:2:2 pixel `x` by the top 3 bits of U and V and the top 2 of its Y: pairs
+/// `Y0 U Y1 V` (YUYV) or, when `CHROMA_FIRST`, `U Y0 V Y1` (UYVY).
+fn yuv422_bin<const CHROMA_FIRST: bool>(row: &[u8], x: usize) -> usize {
     let pair = 4 * (x / 2);
-    let (y, u, v) = (
-        row[2 * x] as usize,
-        row[pair + 1] as usize,
-        row[pair + 3] as usize,
-    );
+    let (y, u, v) = if CHROMA_FIRST {
+        (row[2 * x + 1], row[pair], row[pair + 2])
+    } else {
+        (row[2 * x], row[pair + 1], row[pair + 3])
+    };
+    let (y, u, v) = (y as usize, u as usize, v as usize);
     ((u >> 5) << 5) | ((v >> 5) << 2) | (y >> 6)
 }
 
@@ -196,7 +198,11 @@ fn bhattacharyya_matches_f64_reference() {
         ),
         (
             "YUYV, 8x8x4 chroma bins",
-            run::<Yuv422, Yuv8x8x4, 256>(7, 2_000, yuyv_bin),
+            run::<Yuyv, Yuv8x8x4, 256>(7, 2_000, yuv422_bin::<false>),
+        ),
+        (
+            "UYVY, 8x8x4 chroma bins",
+            run::<Uyvy, Yuv8x8x4, 256>(8, 2_000, yuv422_bin::<true>),
         ),
     ] {
         let rms = (stats.sum_sq / stats.n as f64).sqrt();

@@ -19,8 +19,8 @@ use proptest::prelude::*;
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
 use rbtrack::image::{
-    Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x8, Yuv422,
-    Yuv8x8x4,
+    Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x8, Uyvy,
+    Yuv8x8x4, Yuyv,
 };
 use rbtrack::kalman::{predict_mean, BlockNoise, Filter, Noise, SharedCovariance, Sym2, Sym4};
 use rbtrack::resample::{
@@ -54,16 +54,16 @@ struct FrameCase {
 }
 
 fn frame_case() -> impl Strategy<Value = FrameCase> {
-    (0usize..5, 1usize..=48, 1usize..=40, 0usize..6, any::<u64>()).prop_map(
+    (0usize..6, 1usize..=48, 1usize..=40, 0usize..6, any::<u64>()).prop_map(
         |(format, width, height, pad, seed)| {
-            // Yuv422 needs even widths and strides.
-            let (width, pad) = if format == 4 {
+            // YUV 4:2:2 needs even widths and strides.
+            let (width, pad) = if format >= 4 {
                 (width.next_multiple_of(2), pad & !1)
             } else {
                 (width, pad)
             };
             let stride = width + pad;
-            let bpp = [1, 2, 2, 3, 2][format];
+            let bpp = [1, 2, 2, 3, 2, 2][format];
             let mut rng = Rng::new(seed);
             let bytes = (0..stride * height * bpp)
                 .map(|_| rng.next_u32() as u8)
@@ -126,8 +126,12 @@ macro_rules! with_format {
                 type $p = Rgb888;
                 $body
             }
+            4 => {
+                type $p = Yuyv;
+                $body
+            }
             _ => {
-                type $p = Yuv422;
+                type $p = Uyvy;
                 $body
             }
         }
