@@ -1,0 +1,290 @@
+//! rbtrack on the OpenMV Cam H7: the OV7725's QVGA RGB565 frames, captured by the DCMI with
+//! DMA into two static buffers, tracked in place by the RBPF; the estimate and the cycles
+//! of each stage go out over defmt (RTT) for every frame.
+//!
+//! - **Clocks**: 12 MHz crystal (HSE), PLL1 to 400 MHz core, 200 MHz AXI/AHB, 100 MHz APB.
+//!   The sensor's XCLK is the HSE itself on MCO1 (PA8), 12 MHz.
+//! - **Sensor** ([`ov7725`]): SCCB on I2C1 (PB8 SCL, PB9 SDA) at 100 kHz, power-down on
+//!   PD7, reset on PA10; QVGA RGB565, high byte first.
+//! - **Capture**: DCMI, 8 bits (D0..D7 on PC6 PC7 PE0 PE1 PE4 PB6 PE5 PE6, HSYNC PA4, VSYNC
+//!   PB7, PIXCLK PA6), DMA2 stream 1, into two 32-byte aligned frame buffers in AXI SRAM.
+//!   embassy's driver captures one frame per call (snapshot mode), so the next frame's
+//!   capture is started just before the tracker steps on the last one and runs beside it:
+//!   frame k + 1 is captured while the tracker reads frame k.
+//! - **Cache**: the I- and D-caches are on; after each capture the buffer's lines are
+//!   invalidated, so the core reads what the DMA wrote.
+//! - **Tracker**: RBPF, N = 100, 512 RGB bins, on an [`ImageView`] over the DMA buffer
+//!   (no copy), initialised on a fixed 48 x 64 px box in the centre of the first frame. A
+//!   product would take the box from a detector or a host command.
+//! - **Output**: per frame, the estimate (centre, half-axes, velocity, confidence, status)
+//!   and the DWT cycle counts of propagate, weigh, update, estimate and resample.
+
+#![no_std]
+#![no_main]
+#![deny(unsafe_code)]
+
+mod ov7725;
+
+use cortex_m::peripheral::{DWT, SCB};
+use defmt::{error, info, warn};
+use defmt_rtt as _;
+use embassy_executor::Spawner;
+use embassy_futures::join::join;
+use embassy_stm32::dcmi::{self, Dcmi};
+use embassy_stm32::gpio::{Level, Output, Speed};
+use embassy_stm32::i2c::{self, I2c};
+use embassy_stm32::peripherals::DCMI;
+use embassy_stm32::rcc::{Mco, Mco1Source, McoConfig, McoPrescaler};
+use embassy_stm32::{bind_interrupts, dma, peripherals};
+use panic_probe as _;
+use rbtrack::fixed::Q16;
+use rbtrack::image::{ImageError, ImageView, Rgb565Be, Rgb8x8x8};
+use rbtrack::profile::{CycleCounter, StageCycles};
+use rbtrack::tracker::{Config, ConfigError, Estimate, Variant};
+use rbtrack::window::Ellipse;
+use static_cell::ConstStaticCell;
+
+/// Frame width and height, px (QVGA).
+const WIDTH: usize = 320;
+const HEIGHT: usize = 240;
+/// 32-bit words of one RGB565 frame: two pixels per word.
+const FRAME_WORDS: usize = WIDTH * HEIGHT / 2;
+/// Particles and colour bins of the tracker.
+const PARTICLES: usize = 100;
+const BINS: usize = 512;
+
+/// The tracker: RGB 8x8x8 bins over the sensor's big-endian RGB565.
+type Tracker = rbtrack::tracker::Tracker<Rgb8x8x8, PARTICLES, BINS>;
+type Pixel = Rgb565Be;
+
+/// One frame as the DMA writes it: 153,600 bytes, a whole number of the Cortex-M7's 32-byte
+/// cache lines and aligned to them, so invalidating it touches nothing else.
+#[repr(C, align(32))]
+struct Frame([u32; FRAME_WORDS]);
+
+/// The two capture buffers, in `.bss` (AXI SRAM, which DMA2 reaches; see `memory.x`).
+static FRAME_A: ConstStaticCell<Frame> = ConstStaticCell::new(Frame([0; FRAME_WORDS]));
+static FRAME_B: ConstStaticCell<Frame> = ConstStaticCell::new(Frame([0; FRAME_WORDS]));
+
+bind_interrupts!(struct Irqs {
+    DCMI => dcmi::InterruptHandler<peripherals::DCMI>;
+    DMA2_STREAM1 => dma::InterruptHandler<peripherals::DMA2_CH1>;
+});
+
+/// The DWT cycle counter `CYCCNT`: core clock cycles (400 MHz).
+struct Cycles;
+
+impl Cycles {
+    /// Enables the trace unit and the counter (the Cortex-M7 locks the DWT until unlocked).
+    fn start(dcb: &mut cortex_m::peripheral::DCB, dwt: &mut DWT) -> Self {
+        dcb.enable_trace();
+        DWT::unlock();
+        dwt.enable_cycle_counter();
+        Self
+    }
+}
+
+impl CycleCounter for Cycles {
+    fn now(&mut self) -> u32 {
+        DWT::cycle_count()
+    }
+}
+
+/// HSE 12 MHz -> PLL1 (/3, x200, /2) 400 MHz core; AXI/AHB 200 MHz; APB1..4 100 MHz.
+fn clocks() -> embassy_stm32::Config {
+    use embassy_stm32::rcc::*;
+    use embassy_stm32::time::Hertz;
+    let mut config = embassy_stm32::Config::default();
+    config.rcc.hse = Some(Hse {
+        freq: Hertz::mhz(12),
+        mode: HseMode::Oscillator,
+    });
+    config.rcc.pll1 = Some(Pll {
+        source: PllSource::HSE,
+        prediv: PllPreDiv::DIV3,
+        mul: PllMul::MUL200,
+        fracn: None,
+        divp: Some(PllDiv::DIV2),
+        divq: None,
+        divr: None,
+    });
+    config.rcc.sys = Sysclk::PLL1_P;
+    config.rcc.ahb_pre = AHBPrescaler::DIV2;
+    config.rcc.apb1_pre = APBPrescaler::DIV2;
+    config.rcc.apb2_pre = APBPrescaler::DIV2;
+    config.rcc.apb3_pre = APBPrescaler::DIV2;
+    config.rcc.apb4_pre = APBPrescaler::DIV2;
+    config.rcc.voltage_scale = VoltageScale::Scale1;
+    config
+}
+
+/// The frame in `words`, borrowed: no copy.
+fn view(words: &[u32]) -> Result<ImageView<'_, Pixel>, ImageError> {
+    ImageView::from_words(words, WIDTH, HEIGHT, WIDTH)
+}
+
+/// The RBPF on a 48 x 64 px box in the centre of `frame`.
+///
+/// The tracker (about 18.5 KB) is returned by value and lives in the main task's state in
+/// `.bss`; with in-place construction this becomes the one call that fills a static slot.
+fn start_tracker(frame: &ImageView<'_, Pixel>) -> Result<Tracker, ConfigError> {
+    let centre = Ellipse::new(
+        Q16::from_int(WIDTH as i32 / 2),
+        Q16::from_int(HEIGHT as i32 / 2),
+        Q16::from_int(24),
+        Q16::from_int(32),
+    );
+    Tracker::new(Config::new(Variant::Rbpf), frame, centre)
+}
+
+/// Repeats a failed capture into `frame` until one succeeds, then invalidates the
+/// D-cache lines of `frame` so that the core reads what the DMA wrote.
+async fn finish_capture(
+    dcmi: &mut Dcmi<'_, DCMI>,
+    scb: &mut SCB,
+    frame: &mut [u32; FRAME_WORDS],
+    mut captured: Result<(), dcmi::Error>,
+) {
+    while let Err(e) = captured {
+        warn!("capture failed ({}), capturing again", e);
+        captured = dcmi.capture(frame).await;
+    }
+    // SAFETY: `frame` is 32-byte aligned and a whole number of 32-byte lines long, so the
+    // invalidation discards no other data; the core never writes it (cortex-m-rt zeroed
+    // `.bss` before the D-cache was on), so no dirty line of it is lost; the DMA transfer
+    // into it has completed.
+    #[allow(unsafe_code)]
+    unsafe {
+        scb.invalidate_dcache_by_slice(frame)
+    };
+}
+
+/// A Q16.16 value as `f32`, for the log.
+fn f32_of(q: Q16) -> f32 {
+    q.to_bits() as f32 / 65536.0
+}
+
+fn report(frame: u32, e: &Estimate, c: &StageCycles) {
+    let el = e.ellipse;
+    info!(
+        "frame {=u32}: {} conf {=f32} cx {=f32} cy {=f32} hx {=f32} hy {=f32} vx {=f32} vy {=f32} | cycles propagate {=u32} weigh {=u32} update {=u32} estimate {=u32} resample {=u32} total {=u32}",
+        frame,
+        e.status,
+        f32_of(e.confidence),
+        f32_of(el.cx),
+        f32_of(el.cy),
+        f32_of(el.hx),
+        f32_of(el.hy),
+        f32_of(e.vx),
+        f32_of(e.vy),
+        c.propagate,
+        c.weigh,
+        c.update,
+        c.estimate,
+        c.resample,
+        c.total()
+    );
+}
+
+/// Stops here with a last message (the probe keeps the log).
+fn halt() -> ! {
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[embassy_executor::main]
+async fn main(_spawner: Spawner) {
+    let p = embassy_stm32::init(clocks());
+    let Some(mut cp) = cortex_m::Peripherals::take() else {
+        error!("core peripherals already taken");
+        halt()
+    };
+    cp.SCB.enable_icache();
+    cp.SCB.enable_dcache(&mut cp.CPUID);
+    let mut cycles = Cycles::start(&mut cp.DCB, &mut cp.DWT);
+    info!(
+        "rbtrack on the OpenMV Cam H7: {=usize}x{=usize} RGB565, RBPF N = {=usize}, {=usize} bins, tracker {=usize} B",
+        WIDTH,
+        HEIGHT,
+        PARTICLES,
+        BINS,
+        core::mem::size_of::<Tracker>()
+    );
+
+    let mut xclk_config = McoConfig::default();
+    xclk_config.prescaler = McoPrescaler::DIV1;
+    let _xclk = Mco::new(p.MCO1, p.PA8, Mco1Source::HSE, xclk_config);
+    let sccb = I2c::new_blocking(p.I2C1, p.PB8, p.PB9, i2c::Config::default());
+    let mut sensor = ov7725::Ov7725::new(
+        sccb,
+        Output::new(p.PD7, Level::High, Speed::Low),
+        Output::new(p.PA10, Level::Low, Speed::Low),
+    );
+    match sensor.init_qvga_rgb565().await {
+        Ok((pid, version)) => info!(
+            "OV7725 (PID {=u8:#x}, VER {=u8:#x}) in QVGA RGB565",
+            pid, version
+        ),
+        Err(e) => {
+            error!("camera: {}", e);
+            halt()
+        }
+    }
+
+    let mut dcmi = Dcmi::new_8bit(
+        p.DCMI,
+        p.DMA2_CH1,
+        Irqs,
+        p.PC6,
+        p.PC7,
+        p.PE0,
+        p.PE1,
+        p.PE4,
+        p.PB6,
+        p.PE5,
+        p.PE6,
+        p.PB7,
+        p.PA4,
+        p.PA6,
+        // VSYNC high and HSYNC low while data is invalid, sampled on PIXCLK's rising edge.
+        dcmi::Config::default(),
+    );
+    let (Some(a), Some(b)) = (FRAME_A.try_take(), FRAME_B.try_take()) else {
+        error!("frame buffers already taken");
+        halt()
+    };
+    // `ready` holds the last complete frame, `next` receives the one after it.
+    let (mut ready, mut next) = (&mut a.0, &mut b.0);
+
+    let captured = dcmi.capture(ready).await;
+    finish_capture(&mut dcmi, &mut cp.SCB, ready, captured).await;
+    let mut tracker = match view(ready).map(|frame| start_tracker(&frame)) {
+        Ok(Ok(tracker)) => tracker,
+        Ok(Err(e)) => {
+            error!("tracker: {}", e);
+            halt()
+        }
+        Err(e) => {
+            error!("frame: {}", e);
+            halt()
+        }
+    };
+
+    let mut frame = 0u32;
+    loop {
+        frame = frame.wrapping_add(1);
+        // `join` polls the capture first, which starts the DMA into `next`, then runs the
+        // step on `ready` while the DCMI fills `next`.
+        let (captured, stepped) = join(dcmi.capture(next), async {
+            view(ready).map(|view| tracker.step_profiled(&view, &mut cycles))
+        })
+        .await;
+        match stepped {
+            Ok((estimate, stages)) => report(frame, &estimate, &stages),
+            Err(e) => warn!("frame {=u32}: {}", frame, e),
+        }
+        finish_capture(&mut dcmi, &mut cp.SCB, next, captured).await;
+        core::mem::swap(&mut ready, &mut next);
+    }
+}
