@@ -164,6 +164,7 @@ fn f32_of(q: Q16) -> f32 {
     q.to_bits() as f32 / 65536.0
 }
 
+/// Logs frame `frame`'s estimate and the core cycles of each stage of its step.
 fn report(frame: u32, e: &Estimate, c: &StageCycles) {
     let el = e.ellipse;
     info!(
@@ -186,7 +187,7 @@ fn report(frame: u32, e: &Estimate, c: &StageCycles) {
     );
 }
 
-/// Stops here with a last message (the probe keeps the log).
+/// Stops the core after an error was logged (the probe keeps the log).
 fn halt() -> ! {
     loop {
         cortex_m::asm::wfi();
