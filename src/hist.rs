@@ -51,7 +51,7 @@
 
 use crate::fixed::Q16;
 use crate::image::{Binning, ImageView, PixelFormat};
-use crate::window::{rows, visit, Ellipse, MAX_CAP};
+use crate::window::{rows, visit, Ellipse, MAX_CAP, WEIGHT_ONE};
 
 /// 1.0 in Q0.30, the scale of model probabilities.
 pub const PROB_ONE: u32 = 1 << 30;
@@ -120,6 +120,68 @@ fn add_to<const B: usize>(
     }
     *c = c.saturating_add(weight);
     true
+}
+
+/// Clears `upper` (and `lower`) and adds the pixels of the window `e` of `img`, each with
+/// its kernel weight `w` mapped by `weight` (to at most [`WEIGHT_ONE`]): every row into
+/// `upper`, or, given `lower`, the rows from the centre row `round(e.cy)` down into it.
+/// Returns the number of pixels visited (`<= cap`).
+#[inline(always)]
+fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
+    upper: &mut Histogram<B>,
+    mut lower: Option<&mut Histogram<B>>,
+    img: &ImageView<'_, P>,
+    e: &Ellipse,
+    cap: u32,
+    weight: impl Fn(u32) -> u32,
+) -> u32 {
+    const { assert!(Bn::BINS == B, "the binning must have B bins") };
+    upper.clear();
+    if let Some(lower) = lower.as_deref_mut() {
+        lower.clear();
+    }
+    let split = e.cy.round_int().max(0) as usize;
+    let cap = cap.min(MAX_CAP);
+    let (frame, stride) = (img.as_bytes(), img.stride());
+    let n = rows(img, e, cap, cap, |run| {
+        let h = match lower.as_deref_mut() {
+            Some(lower) if run.y >= split => lower,
+            _ => &mut *upper,
+        };
+        let (counts, touched) = (&mut h.counts, &mut h.touched);
+        let mut weights = run.weights;
+        // The run's pixels counted from the frame's start: one slice, no row slice.
+        let first = run.y * stride + run.x0;
+        P::for_each_bin::<Bn>(frame, first, run.step, run.count, |bin| {
+            let w = weight(weights.next());
+            if let Some(c) = counts.get_mut(bin as usize) {
+                if *c == 0 && w != 0 {
+                    // Cannot fail: a bin enters the list once, while its count is zero.
+                    let _ = touched.push(bin);
+                }
+                // One window's mass is below 2^32 (window::MAX_CAP pixels of weight at
+                // most 2^16), so no count of a cleared histogram can wrap.
+                *c = c.wrapping_add(w);
+            }
+        });
+    });
+    upper.recount_mass();
+    if let Some(lower) = lower {
+        lower.recount_mass();
+    }
+    n
+}
+
+/// `acc / sqrt(mass)` for a sum `acc` of `sqrt_q8(n_u) sqrt(q_u)` (Q8 times Q0.23 = Q31),
+/// rounded, as Q16.16 clamped to `[0, 1]`; 0 for no mass.
+#[inline]
+fn ratio(acc: u64, mass: u32) -> Q16 {
+    let den = (sqrt_q8(mass) as u64) << 7; // Q31 / (Q8 << 7) = Q16
+    if den == 0 {
+        return Q16::ZERO;
+    }
+    let rho = (acc + den / 2) / den;
+    Q16::from_bits(rho.min(1 << 16) as i32)
 }
 
 /// A kernel-weighted colour histogram of `B` bins (`1 <= B <= 65536`).
@@ -197,33 +259,51 @@ impl<const B: usize> Histogram<B> {
         e: &Ellipse,
         cap: u32,
     ) -> u32 {
-        const { assert!(Bn::BINS == B, "the binning must have B bins") };
-        self.clear();
-        let (counts, touched) = (&mut self.counts, &mut self.touched);
-        let cap = cap.min(MAX_CAP);
-        let (frame, stride) = (img.as_bytes(), img.stride());
-        let n = rows(img, e, cap, cap, |run| {
-            let mut weights = run.weights;
-            // The run's pixels counted from the frame's start: one slice, no row slice.
-            let first = run.y * stride + run.x0;
-            P::for_each_bin::<Bn>(frame, first, run.step, run.count, |bin| {
-                let w = weights.next();
-                if let Some(c) = counts.get_mut(bin as usize) {
-                    if *c == 0 && w != 0 {
-                        // Cannot fail: a bin enters the list once, while its count is zero.
-                        let _ = touched.push(bin);
-                    }
-                    // One window's mass is below 2^32 (window::MAX_CAP pixels of weight at
-                    // most 2^16), so no count of a cleared histogram can wrap.
-                    *c = c.wrapping_add(w);
-                }
-            });
-        });
-        self.mass = touched
-            .iter()
-            .map(|&u| counts.get(u as usize).copied().unwrap_or(0))
-            .fold(0u32, u32::wrapping_add);
-        n
+        fill_rows::<Bn, P, B>(self, None, img, e, cap, |w| w)
+    }
+
+    /// Clears `upper` and `lower` and fills them from the window `e` as [`Histogram::fill`]
+    /// would fill one: the rows above the centre row `round(e.cy)` into `upper`, the
+    /// others into `lower`. Returns the number of pixels visited (both halves).
+    #[inline]
+    pub fn fill_halves<Bn: Binning, P: PixelFormat>(
+        upper: &mut Self,
+        lower: &mut Self,
+        img: &ImageView<'_, P>,
+        e: &Ellipse,
+        cap: u32,
+    ) -> u32 {
+        fill_rows::<Bn, P, B>(upper, Some(lower), img, e, cap, |w| w)
+    }
+
+    /// Clears the histogram and fills it from the ring between the ellipse `inner` and the
+    /// same ellipse scaled by `scale` (Q16.16, above 1): the surroundings of a target whose
+    /// window is `inner`. The outer ellipse is sampled as [`Histogram::fill`] samples a
+    /// window (at most `cap` pixels); the sampled pixels outside `inner` count
+    /// [`WEIGHT_ONE`] each. Returns the number of pixels visited.
+    pub fn fill_ring<Bn: Binning, P: PixelFormat>(
+        &mut self,
+        img: &ImageView<'_, P>,
+        inner: &Ellipse,
+        scale: Q16,
+        cap: u32,
+    ) -> u32 {
+        let outer = Ellipse {
+            hx: inner.hx.saturating_mul(scale),
+            hy: inner.hy.saturating_mul(scale),
+            ..*inner
+        };
+        // A pixel at normalised distance d from the centre of `outer` is inside `inner`
+        // when d < 1 / scale, that is when its kernel weight 1 - d^2 exceeds 1 - 1/scale^2.
+        let inv = Q16::ONE / scale.max(Q16::ONE);
+        let edge = (Q16::ONE - inv * inv).to_bits().clamp(0, WEIGHT_ONE as i32) as u32;
+        fill_rows::<Bn, P, B>(self, None, img, &outer, cap, |w| {
+            if w > 0 && w <= edge {
+                WEIGHT_ONE
+            } else {
+                0
+            }
+        })
     }
 
     /// [`Histogram::fill`] without clearing first (counts and the mass saturate at
@@ -245,6 +325,16 @@ impl<const B: usize> Histogram<B> {
         });
         self.mass = self.mass.saturating_add(mass);
         n
+    }
+
+    /// Sets the mass to the sum of the touched bins' counts (below `2^32` after a fill).
+    #[inline]
+    fn recount_mass(&mut self) {
+        self.mass = self
+            .touched
+            .iter()
+            .map(|&u| self.counts.get(u as usize).copied().unwrap_or(0))
+            .fold(0u32, u32::wrapping_add);
     }
 
     /// Total kernel mass, weight units (65536 per centre pixel), `0..=u32::MAX`.
@@ -292,21 +382,63 @@ impl<const B: usize> Histogram<B> {
     /// Cost: one [`sqrt_q8`] and one multiply-add per touched bin, one division.
     #[inline]
     pub fn bhattacharyya(&self, model: &Model<B>) -> Q16 {
+        self.coefficient(&model.sqrt_q)
+    }
+
+    /// [`Histogram::coefficient`] of the sum of this histogram and `other` (counts and
+    /// masses added), without forming it: two windows' halves compared as one.
+    #[inline]
+    pub fn coefficient_with(&self, other: &Histogram<B>, sqrt_q: &[u32; B]) -> Q16 {
+        let mass = self.mass.saturating_add(other.mass);
+        let sq = |u: usize| sqrt_q.get(u).copied().unwrap_or(0) as u64;
+        // Bins of `self` (with `other`'s count added), then those only `other` touched.
+        let mut acc = 0u64;
+        for &u in self.touched.iter() {
+            let u = u as usize;
+            acc += sqrt_q8(self.count(u).saturating_add(other.count(u))) as u64 * sq(u);
+        }
+        for &u in other.touched.iter() {
+            let u = u as usize;
+            if self.count(u) == 0 {
+                acc += sqrt_q8(other.count(u)) as u64 * sq(u);
+            }
+        }
+        ratio(acc, mass)
+    }
+
+    /// `sum_u sqrt(n_u / N) sqrt_q[u]` for a table `sqrt_q` of square roots of a
+    /// distribution (Q0.23, summing in square to about 1), Q16.16 in `[0, 1]`; 0 when the
+    /// histogram is empty. [`Histogram::bhattacharyya`] with any model's table.
+    #[inline]
+    pub fn coefficient(&self, sqrt_q: &[u32; B]) -> Q16 {
         if self.mass == 0 {
             return Q16::ZERO;
         }
         let mut acc = 0u64; // Q8 * Q0.23 = Q31; <= sqrt(N) 2^31 <= 2^47
         for &u in self.touched.iter() {
             let u = u as usize;
-            let sq = model.sqrt_q.get(u).copied().unwrap_or(0) as u64;
+            let sq = sqrt_q.get(u).copied().unwrap_or(0) as u64;
             acc += sqrt_q8(self.count(u)) as u64 * sq;
         }
-        let den = (sqrt_q8(self.mass) as u64) << 7; // Q31 / (Q8 << 7) = Q16
-        if den == 0 {
-            return Q16::ZERO;
+        ratio(acc, self.mass)
+    }
+}
+
+/// `v <- (1 - alpha) v + alpha p` bin by bin, `v` and `p` (the normalised counts of
+/// `hist`) Q0.30, `alpha` Q16.16 clamped to `[0, 1]`; each bin rounded to nearest.
+pub(crate) fn blend<const B: usize>(v: &mut [u32; B], hist: &Histogram<B>, alpha: Q16) {
+    let a = alpha.clamp(Q16::ZERO, Q16::ONE).to_bits() as u64; // 0..=65536
+    for q in v.iter_mut() {
+        *q = ((*q as u64 * (65536 - a) + 32768) >> 16) as u32;
+    }
+    for &u in hist.touched() {
+        let u = u as usize;
+        let p = hist.probability(u) as u64;
+        if let Some(q) = v.get_mut(u) {
+            *q = q
+                .saturating_add(((p * a + 32768) >> 16) as u32)
+                .min(PROB_ONE);
         }
-        let rho = (acc + den / 2) / den;
-        Q16::from_bits(rho.min(1 << 16) as i32)
     }
 }
 
@@ -370,19 +502,7 @@ impl<const B: usize> Model<B> {
         if hist.is_empty() {
             return;
         }
-        let a = alpha.clamp(Q16::ZERO, Q16::ONE).to_bits() as u64; // 0..=65536
-        for q in self.q.iter_mut() {
-            *q = ((*q as u64 * (65536 - a) + 32768) >> 16) as u32;
-        }
-        for &u in hist.touched() {
-            let u = u as usize;
-            let p = hist.probability(u) as u64;
-            if let Some(q) = self.q.get_mut(u) {
-                *q = q
-                    .saturating_add(((p * a + 32768) >> 16) as u32)
-                    .min(PROB_ONE);
-            }
-        }
+        blend(&mut self.q, hist, alpha);
         for (s, &q) in self.sqrt_q.iter_mut().zip(self.q.iter()) {
             *s = sqrt_q8(q);
         }
@@ -396,6 +516,16 @@ impl<const B: usize> Model<B> {
     /// `sqrt(q_u)` of `bin`, Q0.23 (`0..=2^23`); 0 for `bin >= B`.
     pub fn sqrt_q(&self, bin: usize) -> u32 {
         self.sqrt_q.get(bin).copied().unwrap_or(0)
+    }
+
+    /// Every `q_u`, Q0.30.
+    pub fn probabilities(&self) -> &[u32; B] {
+        &self.q
+    }
+
+    /// Every `sqrt(q_u)`, Q0.23.
+    pub fn sqrt_table(&self) -> &[u32; B] {
+        &self.sqrt_q
     }
 
     /// Whether the model has no mass.
@@ -693,5 +823,76 @@ mod tests {
         m.update(&b, Q16::from_int(3)); // clamped to 1
         assert_eq!(m, Model::from_histogram(&b));
         assert!((b.bhattacharyya(&m).to_f64() - 1.0).abs() < 1e-4);
+    }
+
+    /// An 11x11 Gray8 frame: a 5x5 bright square (220) centred at (5, 5) on 40.
+    fn square_frame() -> Vec<u8> {
+        let mut buf = vec![40u8; 11 * 11];
+        for y in 3..8 {
+            buf[y * 11 + 3..y * 11 + 8].fill(220);
+        }
+        buf
+    }
+
+    #[test]
+    fn ring_counts_only_the_surroundings() {
+        let buf = square_frame();
+        let img = ImageView::<Gray8>::new(&buf, 11, 11, 11).unwrap();
+        let bright = Luma64::from_luma(220) as usize;
+        let dark = Luma64::from_luma(40) as usize;
+        let mut ring = Histogram::<64>::new();
+        // Window: the square's inscribed circle (radius 2.5); ring out to radius 5.
+        let inner = ellipse(5.0, 5.0, 2.5, 2.5);
+        let n = ring.fill_ring::<Luma64, Gray8>(&img, &inner, Q16::from_int(2), 1000);
+        // By hand: pixels at distance d from (5, 5) with 2.5 <= d < 5 count one unit each:
+        // 69 pixels have d^2 < 25, 21 of them d^2 <= 6, so 48 are in the ring, of which the
+        // square's 4 corners (d^2 = 8) are bright.
+        let (mut want_bright, mut want_dark) = (0, 0);
+        for y in 0..11i32 {
+            for x in 0..11i32 {
+                let d2 = ((x - 5) * (x - 5) + (y - 5) * (y - 5)) as f64;
+                if (6.25..25.0).contains(&d2) {
+                    let is_bright = (3..8).contains(&x) && (3..8).contains(&y);
+                    *if is_bright {
+                        &mut want_bright
+                    } else {
+                        &mut want_dark
+                    } += 1;
+                }
+            }
+        }
+        assert!(n >= 69, "the whole outer disc is sampled at step 1: {n}");
+        assert_eq!(ring.count(bright), want_bright * WEIGHT_ONE);
+        assert_eq!(ring.count(dark), want_dark * WEIGHT_ONE);
+        assert_eq!(ring.mass(), (want_bright + want_dark) * WEIGHT_ONE);
+        assert_eq!((want_bright, want_dark), (4, 44));
+    }
+
+    #[test]
+    fn halves_split_the_rows_and_sum_to_the_window() {
+        let buf = noise(30 * 20 * 3, 11);
+        let img = ImageView::<Rgb888>::new(&buf, 30, 20, 30).unwrap();
+        let e = ellipse(14.2, 9.6, 9.0, 7.0);
+        let mut whole = Histogram::<512>::new();
+        let (mut upper, mut lower) = (Histogram::<512>::new(), Histogram::<512>::new());
+        let n = whole.fill::<Rgb8x8x8, Rgb888>(&img, &e, 300);
+        assert_eq!(
+            Histogram::fill_halves::<Rgb8x8x8, Rgb888>(&mut upper, &mut lower, &img, &e, 300),
+            n
+        );
+        let (mut above, mut below) = (vec![0u32; 512], vec![0u32; 512]);
+        visit(&img, &e, 300, |row, x, w| {
+            let counts = if row.y() < 10 { &mut above } else { &mut below };
+            counts[row.bin::<Rgb8x8x8>(x) as usize] += w;
+        });
+        assert_eq!(&upper.counts()[..], &above[..]);
+        assert_eq!(&lower.counts()[..], &below[..]);
+        for u in 0..512 {
+            assert_eq!(whole.count(u), upper.count(u) + lower.count(u));
+        }
+        let model = Model::from_histogram(&whole);
+        let joint = upper.coefficient_with(&lower, model.sqrt_table());
+        assert_eq!(joint, whole.bhattacharyya(&model));
+        assert!(joint > Q16::from_f64(0.999));
     }
 }
