@@ -19,12 +19,15 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod colour;
 pub mod cue;
 pub mod fixed;
+pub mod ground;
 pub mod hist;
 pub mod image;
 pub mod kalman;
 pub mod likelihood;
+pub mod map;
 pub mod profile;
 pub mod resample;
 pub mod rng;
