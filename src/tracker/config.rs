@@ -37,6 +37,20 @@ pub enum Readout {
     RobustMean(Q16),
 }
 
+/// How the RBPF measures the target's size once per frame (the Kalman filter's `Y`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SizeMeasurement {
+    /// The scale of highest likelihood (the particles' cues) among five around the
+    /// weighted mean; a smaller window often matches the model as well, so sizes drift
+    /// down on real video.
+    Likelihood,
+    /// The scale of highest contrast on the object map: object probability inside the
+    /// window against a ring just outside it (see [`crate::map`]), with the window scale
+    /// calibrated on the first frame.
+    Contrast,
+}
+
 /// Everything a tracker needs besides its sizes (particles `N`, bins `B`).
 ///
 /// Fields are public; [`Config::new`] fills in defaults that track the built-in scenes and
@@ -116,6 +130,33 @@ pub struct Config {
     pub scale_step: Q16,
     /// Smallest half-axis, px, Q16.16 in `[1, 1024]`.
     pub min_half_axis: Q16,
+    /// Weight the colour model by its surroundings (CBWH, see [`crate::colour`]): colours
+    /// common around the target count less.
+    pub background_weighting: bool,
+    /// Floor of `o*` in the background weighting, as a share of the ring, Q16.16 in
+    /// `[0, 1]`.
+    pub background_floor: Q16,
+    /// Outer scale of the ring whose colours are the target's surroundings, relative to
+    /// the window, Q16.16 in `(1, 4]`.
+    pub ring_scale: Q16,
+    /// Model the window's upper and lower halves apart (see [`crate::colour`]).
+    pub split_halves: bool,
+    /// Sigma of the contrast cue on the object map in the particle weights, Q16.16 in
+    /// `[0.01, 10]`; `None`: not in the weights.
+    pub contrast_sigma: Option<Q16>,
+    /// Outer scale of the contrast ring around a window's box, Q16.16 in `(1, 2]`.
+    pub contrast_ring: Q16,
+    /// How the RBPF measures the size.
+    pub size_measurement: SizeMeasurement,
+    /// Keep every particle's size at the initial one (for comparing scale mechanisms).
+    pub freeze_size: bool,
+    /// Prior weight of a re-detected particle against one that followed the motion,
+    /// Q16.16 in `(0, 1]`: a re-detection wins only where it matches this many times
+    /// better.
+    pub redetect_prior: Q16,
+    /// Learn `scale_per_row` online while tracking (see [`crate::ground`]) and use the
+    /// learnt slope once it is trustworthy.
+    pub learn_scale_per_row: bool,
 }
 
 /// A configuration field out of its documented range; names the field.
@@ -150,32 +191,39 @@ impl core::error::Error for ConfigError {}
 pub(crate) struct Derived {
     pub colour: CostScale,
     pub gradient: CostScale,
+    pub contrast: Option<CostScale>,
 }
 
 impl Config {
-    /// Defaults for `variant`: constant velocity with position noise 2 px plus 0.2 px per px
-    /// of half-axis and velocity noise 1 px/frame; 300 pixels per window; colour sigma 0.2,
-    /// gradient sigma 0.3, gradient cue on 24 boundary points searched 2 px each side of
-    /// the boundary (5 gradients per point: as accurate as 3 px on the built-in scenes
-    /// and the real sequences, for 29 % fewer gradients); Kalman `Q = 0.25 I`, `R = 4 I`
-    /// (smoother sizes than the RBPF paper's `4 I` and `2 I`, which follow every noisy
-    /// scale measurement); systematic resampling below half the particles.
+    /// The defaults for `variant`, chosen on the real sequences (README, "Accuracy"):
+    /// - appearance: 8x8x8 colour histograms of the window's upper and lower halves,
+    ///   weighted by the ring around the target (twice its size), fixed after the first
+    ///   frame (`adapt_rate` 0: an adapting model drifts onto what hides the target);
+    ///   colour sigma 0.1, gradient sigma 0.3 (RBPF, product of the cues);
+    /// - motion: a random walk of 2 px plus 0.4 px per px of mean half-axis a frame (no
+    ///   velocity: camera jerks and bouncing targets break constant velocity);
+    /// - size: the RBPF measures it by contrast on the object map and filters it with
+    ///   Kalman `Q = 0.01 I`, `R = 16 I` (a slow, steady size); the colour PF samples it
+    ///   (1 % a frame) and weighs the contrast cue (sigma 0.2); the ground-plane slope is
+    ///   learnt online;
+    /// - search: while not `Tracking`, a quarter of the particles are re-drawn over the
+    ///   frame with prior weight 1/200;
+    /// - 300 pixels per window, 24 gradient points searched 2 px each side, systematic
+    ///   resampling below half the particles.
     pub fn new(variant: Variant) -> Self {
+        let rbpf = variant == Variant::Rbpf;
         Self {
             variant,
             seed: 1,
             pixels_per_window: 300,
             position_noise: Q16::from_int(2),
-            relative_position_noise: Q16::from_f64(0.2),
-            velocity_noise: Q16::ONE,
-            velocity_keep: Q16::from_f64(0.95),
+            relative_position_noise: Q16::from_f64(0.4),
+            velocity_noise: Q16::ZERO,
+            velocity_keep: Q16::ZERO,
             noise_gain: Q16::ZERO,
             noise_floor: Q16::from_f64(0.25),
-            scale_noise: match variant {
-                Variant::ColourPf => Q16::from_f64(0.03),
-                Variant::Rbpf => Q16::from_f64(0.3),
-            },
-            colour_sigma: Q16::from_f64(0.2),
+            scale_noise: if rbpf { Q16::ZERO } else { Q16::from_f64(0.01) },
+            colour_sigma: Q16::from_f64(0.1),
             gradient_sigma: Q16::from_f64(0.3),
             cue_mix: CueMix::Product,
             gradient_points: 24,
@@ -183,88 +231,115 @@ impl Config {
             resampling: Scheme::Systematic,
             resample_below: Q16::HALF,
             readout: Readout::Mean,
-            adapt_rate: Q16::from_f64(0.05),
+            adapt_rate: Q16::ZERO,
             adapt_above: Q16::from_f64(0.85),
             uncertain_below: Q16::from_f64(0.75),
             lost_below: Q16::from_f64(0.6),
-            redetect_share: Q16::HALF,
+            redetect_share: Q16::from_f64(0.25),
             scale_per_row: Q16::ZERO,
-            kalman_q: Q16::from_f64(0.25),
-            kalman_r: Q16::from_int(4),
+            kalman_q: Q16::from_f64(0.01),
+            kalman_r: Q16::from_int(16),
             scale_step: Q16::from_f64(0.05),
             min_half_axis: Q16::from_int(2),
+            background_weighting: true,
+            background_floor: Q16::from_f64(0.01),
+            ring_scale: Q16::from_int(2),
+            split_halves: true,
+            contrast_sigma: if rbpf { None } else { Some(Q16::from_f64(0.2)) },
+            contrast_ring: Q16::from_f64(1.1),
+            size_measurement: SizeMeasurement::Contrast,
+            freeze_size: false,
+            redetect_prior: Q16::from_f64(0.005),
+            learn_scale_per_row: true,
+        }
+    }
+
+    /// The source papers' trackers, as the seeds describe them: the target-only colour
+    /// model (whole window, kernel-weighted 8x8x8 histogram, Bhattacharyya coefficient,
+    /// colour sigma 0.2) adapting at 5 % above a coefficient of 0.85, constant velocity
+    /// (noise 1 px/frame, 0.95 kept), weighted-mean read-out; the colour PF samples the
+    /// size (3 % a frame); the RBPF adds the boundary-gradient cue (sigma 0.3), averages
+    /// the two likelihoods with `a = 0.5` (its eq. 10d), filters the size with the paper's
+    /// Kalman `Q = 4 I`, `R = 2 I`, measured by likelihood, and takes `scale_per_row` as
+    /// given. Re-detection as before the object map: half the particles, no prior.
+    pub fn paper(variant: Variant) -> Self {
+        let rbpf = variant == Variant::Rbpf;
+        Self {
+            relative_position_noise: Q16::from_f64(0.2),
+            velocity_noise: Q16::ONE,
+            velocity_keep: Q16::from_f64(0.95),
+            scale_noise: if rbpf {
+                Q16::from_f64(0.3)
+            } else {
+                Q16::from_f64(0.03)
+            },
+            colour_sigma: Q16::from_f64(0.2),
+            cue_mix: CueMix::Average(Q16::HALF),
+            adapt_rate: Q16::from_f64(0.05),
+            redetect_share: Q16::HALF,
+            kalman_q: Q16::from_int(4),
+            kalman_r: Q16::from_int(2),
+            background_weighting: false,
+            split_halves: false,
+            contrast_sigma: None,
+            size_measurement: SizeMeasurement::Likelihood,
+            redetect_prior: Q16::ONE,
+            learn_scale_per_row: false,
+            ..Self::new(variant)
         }
     }
 
     /// Checks every field; the error names the first one out of range.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let unit = Q16::ZERO..=Q16::ONE;
-        let checks: [(bool, &'static str); 25] = [
+        let up_to = |v: Q16, max: i32| v >= Q16::ZERO && v <= Q16::from_int(max);
+        let positive_up_to = |v: Q16, max: Q16| v > Q16::ZERO && v <= max;
+        let sigma = |v: Q16| CostScale::from_sigma_q16(v).is_some();
+        let checks: [(bool, &'static str); 30] = [
             (
                 (16..=65536).contains(&self.pixels_per_window),
                 "pixels_per_window",
             ),
             (
-                self.position_noise > Q16::ZERO && self.position_noise <= Q16::from_int(256),
+                positive_up_to(self.position_noise, Q16::from_int(256)),
                 "position_noise",
             ),
             (
-                (Q16::ZERO..=Q16::from_int(4)).contains(&self.relative_position_noise),
+                up_to(self.relative_position_noise, 4),
                 "relative_position_noise",
             ),
-            (
-                (Q16::ZERO..=Q16::from_int(64)).contains(&self.velocity_noise),
-                "velocity_noise",
-            ),
+            (up_to(self.velocity_noise, 64), "velocity_noise"),
             (unit.contains(&self.velocity_keep), "velocity_keep"),
+            (up_to(self.noise_gain, 16), "noise_gain"),
+            (positive_up_to(self.noise_floor, Q16::ONE), "noise_floor"),
             (
-                (Q16::ZERO..=Q16::from_int(16)).contains(&self.noise_gain),
-                "noise_gain",
-            ),
-            (
-                self.noise_floor > Q16::ZERO && self.noise_floor <= Q16::ONE,
-                "noise_floor",
-            ),
-            (
-                match self.variant {
-                    Variant::ColourPf => unit.contains(&self.scale_noise),
-                    Variant::Rbpf => (Q16::ZERO..=Q16::from_int(64)).contains(&self.scale_noise),
-                },
+                up_to(
+                    self.scale_noise,
+                    if self.variant == Variant::Rbpf { 64 } else { 1 },
+                ),
                 "scale_noise",
             ),
+            (sigma(self.colour_sigma), "colour_sigma"),
+            (sigma(self.gradient_sigma), "gradient_sigma"),
             (
-                CostScale::from_sigma_q16(self.colour_sigma).is_some(),
-                "colour_sigma",
-            ),
-            (
-                CostScale::from_sigma_q16(self.gradient_sigma).is_some(),
-                "gradient_sigma",
-            ),
-            (
-                match self.cue_mix {
-                    CueMix::Average(a) => unit.contains(&a),
-                    CueMix::Product => true,
-                },
+                !matches!(self.cue_mix, CueMix::Average(a) if !unit.contains(&a)),
                 "cue_mix",
             ),
             ((4..=64).contains(&self.gradient_points), "gradient_points"),
             ((1..=16).contains(&self.gradient_search), "gradient_search"),
             (
-                self.resample_below > Q16::ZERO && self.resample_below <= Q16::ONE,
+                positive_up_to(self.resample_below, Q16::ONE),
                 "resample_below",
             ),
             (
-                match self.readout {
-                    Readout::RobustMean(r) => r > Q16::ZERO,
-                    Readout::Mean | Readout::Best => true,
-                },
+                !matches!(self.readout, Readout::RobustMean(r) if r <= Q16::ZERO),
                 "readout",
             ),
             (unit.contains(&self.adapt_rate), "adapt_rate"),
             (unit.contains(&self.adapt_above), "adapt_above"),
             (unit.contains(&self.uncertain_below), "uncertain_below"),
             (
-                self.lost_below >= Q16::ZERO && self.lost_below <= self.uncertain_below,
+                (Q16::ZERO..=self.uncertain_below).contains(&self.lost_below),
                 "lost_below",
             ),
             (unit.contains(&self.redetect_share), "redetect_share"),
@@ -273,11 +348,11 @@ impl Config {
                 "scale_per_row",
             ),
             (
-                self.kalman_q > Q16::ZERO && self.kalman_q <= Q16::from_int(1024),
+                positive_up_to(self.kalman_q, Q16::from_int(1024)),
                 "kalman_q",
             ),
             (
-                self.kalman_r > Q16::ZERO && self.kalman_r <= Q16::from_int(1024),
+                positive_up_to(self.kalman_r, Q16::from_int(1024)),
                 "kalman_r",
             ),
             (
@@ -287,6 +362,20 @@ impl Config {
             (
                 (Q16::ONE..=Q16::from_int(1024)).contains(&self.min_half_axis),
                 "min_half_axis",
+            ),
+            (unit.contains(&self.background_floor), "background_floor"),
+            (
+                self.ring_scale > Q16::ONE && self.ring_scale <= Q16::from_int(4),
+                "ring_scale",
+            ),
+            (self.contrast_sigma.is_none_or(sigma), "contrast_sigma"),
+            (
+                self.contrast_ring > Q16::ONE && self.contrast_ring <= Q16::from_int(2),
+                "contrast_ring",
+            ),
+            (
+                positive_up_to(self.redetect_prior, Q16::ONE),
+                "redetect_prior",
             ),
         ];
         match checks.iter().find(|(ok, _)| !ok) {
@@ -298,11 +387,17 @@ impl Config {
     /// Validates and derives the cost scales.
     pub(crate) fn derive(&self) -> Result<Derived, ConfigError> {
         self.validate()?;
-        let colour = CostScale::from_sigma_q16(self.colour_sigma)
-            .ok_or(ConfigError::OutOfRange("colour_sigma"))?;
-        let gradient = CostScale::from_sigma_q16(self.gradient_sigma)
-            .ok_or(ConfigError::OutOfRange("gradient_sigma"))?;
-        Ok(Derived { colour, gradient })
+        let scale = |sigma: Q16, field| {
+            CostScale::from_sigma_q16(sigma).ok_or(ConfigError::OutOfRange(field))
+        };
+        Ok(Derived {
+            colour: scale(self.colour_sigma, "colour_sigma")?,
+            gradient: scale(self.gradient_sigma, "gradient_sigma")?,
+            contrast: self
+                .contrast_sigma
+                .map(|s| scale(s, "contrast_sigma"))
+                .transpose()?,
+        })
     }
 }
 

@@ -67,15 +67,18 @@
 mod config;
 mod particle;
 
-pub use config::{Config, ConfigError, CueMix, Readout, Variant};
+pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
 pub use particle::Particle;
 
+use crate::colour::{ColourModel, ColourSettings, Match};
 use crate::cue::{GradientConfig, GradientCue, GradientMemo};
 use crate::fixed::Q16;
-use crate::hist::{Histogram, Model};
+use crate::ground::GroundPlane;
+use crate::hist::Histogram;
 use crate::image::{Binning, ImageView, PixelFormat};
 use crate::kalman::{BlockNoise, SharedCovariance, Sym2};
 use crate::likelihood::exp_neg;
+use crate::map::{ObjectMap, Span};
 use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
 use crate::resample::{
     effective_sample_size_at_least, normalise, replicate, resample, Normalised, WEIGHT_TOTAL,
@@ -85,6 +88,10 @@ use crate::window::Ellipse;
 use config::Derived;
 use core::marker::PhantomData;
 use particle::{predict_leaf, scale_randomly, Bounds, Motion};
+
+/// The scales tried when measuring the size: `1 + k scale_step` for these `k`, the
+/// unchanged size first (it wins a tie).
+const SCALE_STEPS: [i32; 5] = [0, -1, 1, -2, 2];
 
 /// How sure the tracker is of its estimate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -134,16 +141,26 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     rng: Rng,
     particles: [Particle; N],
     weights: [u32; N],
-    /// The gradient cue of each particle's window, this frame (RBPF).
+    /// The gradient cue of each particle's window this frame (RBPF), then its cost.
     cue_values: [Q16; N],
+    /// The colour cost of each particle's window, this frame.
+    colour_costs: [Q16; N],
     /// Gradients already computed in this frame (RBPF).
     memo: GradientMemo,
     indices: [u16; N],
     counts: [u16; N],
     resampled: bool,
     scale_factor: Option<Q16>,
-    model: Model<B>,
-    hist: Histogram<B>,
+    colour: ColourModel<B>,
+    /// The histograms of the window being compared.
+    scratch: [Histogram<B>; 2],
+    /// This frame's object map.
+    map: ObjectMap,
+    /// Scale of the contrast boxes relative to the windows' bounding boxes, Q16.16: the
+    /// scale at which the first window had the highest contrast.
+    calibration: Q16,
+    /// The ground-plane fit of the confident estimates.
+    ground: GroundPlane,
     estimate: Estimate,
     last_confident: Ellipse,
     /// Mean recent innovation of the estimate against its constant-velocity prediction,
@@ -192,13 +209,24 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             particles: [Particle::default(); N],
             weights: [0; N],
             cue_values: [Q16::ZERO; N],
+            colour_costs: [Q16::ZERO; N],
             memo: GradientMemo::new(),
             indices: [0; N],
             counts: [0; N],
             resampled: false,
             scale_factor: None,
-            model: Model::from_histogram(&Histogram::new()),
-            hist: Histogram::new(),
+            colour: ColourModel::new(ColourSettings {
+                split_halves: config.split_halves,
+                background: config
+                    .background_weighting
+                    .then_some(config.background_floor),
+                ring_scale: config.ring_scale,
+                cap: config.pixels_per_window,
+            }),
+            scratch: [Histogram::new(), Histogram::new()],
+            map: ObjectMap::new(),
+            calibration: Q16::ONE,
+            ground: GroundPlane::new(),
             estimate: Estimate {
                 ellipse: init,
                 vx: Q16::ZERO,
@@ -235,9 +263,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         {
             return Err(ConfigError::InitialEllipse);
         }
-        self.hist
-            .fill::<Bn, P>(frame, &init, self.config.pixels_per_window);
-        self.model = Model::from_histogram(&self.hist);
+        self.colour.learn::<Bn, P>(frame, &init, &mut self.scratch);
+        self.calibration = self.calibrate(frame, &init);
+        self.ground = GroundPlane::new();
         self.particles = [Particle::at(&init); N];
         self.weights = [WEIGHT_TOTAL / N as u32; N];
         self.leaf_cov =
@@ -280,7 +308,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.weigh(frame);
         cycles.weigh = watch.lap();
 
-        if self.config.variant == Variant::Rbpf {
+        if self.config.variant == Variant::Rbpf && !self.config.freeze_size {
             self.update_sizes(frame, &bounds);
         }
         cycles.update = watch.lap();
@@ -291,6 +319,17 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.resample_if_degenerate();
         cycles.resample = watch.lap();
         (self.estimate, cycles)
+    }
+
+    /// The ground-plane slope in use (`alpha / beta`, px of half-height per px the centre
+    /// moves down, Q16.16): the learnt one once trustworthy (with
+    /// [`Config::learn_scale_per_row`]), else [`Config::scale_per_row`].
+    pub fn scale_per_row(&self) -> Q16 {
+        let learnt = match self.config.learn_scale_per_row {
+            true => self.ground.slope(self.last_confident.hy),
+            false => None,
+        };
+        learnt.unwrap_or(self.config.scale_per_row)
     }
 
     /// The estimate of the last step (the initial ellipse before any).
@@ -352,10 +391,14 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             self.config.scale_noise
         };
         let motion = Motion::new(&self.config, self.noise_scale(searching));
+        let slope = self.scale_per_row();
         let rng = &mut self.rng;
         for p in self.particles.iter_mut() {
             let y_before = p.y;
             motion.drift(p, rng, bounds);
+            if self.config.freeze_size {
+                continue;
+            }
             match self.config.variant {
                 Variant::ColourPf => scale_randomly(p, self.config.scale_noise, rng, bounds),
                 Variant::Rbpf => {
@@ -363,7 +406,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                         (p.leaf[1], p.leaf[3]) = (Q16::ZERO, Q16::ZERO);
                     }
                     let dy = p.y - y_before;
-                    predict_leaf(p, dy, self.config.scale_per_row, rate_noise, rng, bounds)
+                    predict_leaf(p, dy, slope, rate_noise, rng, bounds)
                 }
             }
         }
@@ -404,16 +447,18 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     }
 
     /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized
-    /// as the last confident estimate moved along the ground-plane relation to their row.
+    /// as the last confident estimate moved along the ground-plane relation to their row,
+    /// with weight `redetect_prior` against the others' 1.
     fn redetect(&mut self, bounds: &Bounds) {
-        let count = (self.config.redetect_share.to_bits() as u64 * N as u64) >> 16;
+        let count = ((self.config.redetect_share.to_bits() as u64 * N as u64) >> 16) as usize;
         let last = self.last_confident;
+        let slope = self.scale_per_row();
         let width = bounds.max_x.floor_int() as u32 + 1;
         let height = bounds.max_y.floor_int() as u32 + 1;
-        for p in self.particles.iter_mut().take(count as usize) {
+        for p in self.particles.iter_mut().take(count) {
             let x = Q16::from_int(self.rng.below(width) as i32);
             let y = Q16::from_int(self.rng.below(height) as i32);
-            let hy = last.hy + self.config.scale_per_row * (y - last.cy);
+            let hy = last.hy + slope * (y - last.cy);
             let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
             *p = Particle::at(&Ellipse {
                 cx: x,
@@ -422,48 +467,145 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 hy,
             });
         }
-        self.weights = [WEIGHT_TOTAL / N as u32; N];
+        let even = WEIGHT_TOTAL / N as u32;
+        let prior = (self.config.redetect_prior * Q16::from_bits(even as i32)).to_bits() as u32;
+        for (i, w) in self.weights.iter_mut().enumerate() {
+            *w = if i < count { prior.max(1) } else { even };
+        }
     }
 
-    /// Likelihood of window `e`, Q0.16 in `0..=65535`, and its Bhattacharyya coefficient;
-    /// `cue` is the window's gradient cue if already known (RBPF).
-    fn likelihood<P: PixelFormat>(
+    /// The costs of window `e`: colour (histograms, and the contrast cue when configured)
+    /// and gradient (RBPF, else 0), Q16.16, and the window's colour match; `cue` is the
+    /// window's gradient cue if already known (RBPF).
+    fn costs<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
         e: &Ellipse,
         cue: Option<Q16>,
-    ) -> (u32, Q16) {
-        self.pixels_visited = self.pixels_visited.saturating_add(self.hist.fill::<Bn, P>(
-            frame,
-            e,
-            self.config.pixels_per_window,
-        ));
-        let rho = self.hist.bhattacharyya(&self.model);
-        let colour_cost = self.derived.colour.cost(Q16::ONE - rho);
-        let likelihood = match self.config.variant {
-            Variant::ColourPf => exp_neg(colour_cost),
+    ) -> (Q16, Q16, Match) {
+        let m = self.colour.compare::<Bn, P>(frame, e, &mut self.scratch);
+        self.pixels_visited = self.pixels_visited.saturating_add(m.pixels);
+        let mut colour = self.derived.colour.cost(Q16::ONE - m.score);
+        if let Some(scale) = self.derived.contrast {
+            colour += scale.cost(Q16::ONE - self.contrast(e));
+        }
+        let gradient = match self.config.variant {
+            Variant::ColourPf => Q16::ZERO,
             Variant::Rbpf => {
                 let g = match cue {
                     Some(g) => g,
                     None => self.cue.evaluate_memo(frame, e, &mut self.memo),
                 };
                 let miss = Q16::ONE - g;
-                let gradient_cost = self.derived.gradient.cost(miss * miss);
-                match self.config.cue_mix {
-                    CueMix::Product => exp_neg(colour_cost + gradient_cost),
-                    CueMix::Average(a) => {
-                        let a = a.to_bits() as u64; // Q16.16 in 0..=65536
-                        ((a * exp_neg(colour_cost) as u64
-                            + (65536 - a) * exp_neg(gradient_cost) as u64)
-                            >> 16) as u32
-                    }
-                }
+                self.derived.gradient.cost(miss * miss)
             }
         };
-        (likelihood, rho)
+        (colour, gradient, m)
+    }
+
+    /// Likelihood, Q0.16 in `0..=65535`, of a window of colour cost `colour` and gradient
+    /// cost `gradient`: `exp(-(colour + gradient - offset))`, `offset` the frame's
+    /// smallest cost (so the best window has 65535 and sharp cues never underflow the
+    /// table for every window at once); with [`CueMix::Average`], the RBPF paper's
+    /// `a exp(-colour) + (1 - a) exp(-gradient)`, no offset.
+    fn likelihood(&self, colour: Q16, gradient: Q16, offset: Q16) -> u32 {
+        match (self.config.variant, self.config.cue_mix) {
+            (Variant::Rbpf, CueMix::Average(a)) => {
+                let a = a.to_bits() as u64; // Q16.16 in 0..=65536
+                ((a * exp_neg(colour) as u64 + (65536 - a) * exp_neg(gradient) as u64) >> 16) as u32
+            }
+            _ => exp_neg(colour + gradient - offset),
+        }
+    }
+
+    /// Mean object probability inside window `e`'s contrast box minus that in the ring
+    /// around it, on this frame's map (see [`crate::map::ObjectMap::contrast`]).
+    fn contrast(&self, e: &Ellipse) -> Q16 {
+        let inner = self.contrast_span(e, Q16::ONE);
+        let outer = self.contrast_span(e, self.config.contrast_ring);
+        self.map.contrast(&inner, &outer)
+    }
+
+    /// The contrast box of window `e` (its bounding box times the calibration), scaled by
+    /// `k` about its centre.
+    fn contrast_span(&self, e: &Ellipse, k: Q16) -> Span {
+        let k = self.calibration.saturating_mul(k);
+        let (hx, hy) = (e.hx.saturating_mul(k), e.hy.saturating_mul(k));
+        Span {
+            x0: e.cx - hx,
+            y0: e.cy - hy,
+            x1: e.cx + hx,
+            y1: e.cy + hy,
+        }
+    }
+
+    /// Whether the RBPF measures sizes on the object map.
+    fn measures_size_by_contrast(&self) -> bool {
+        self.config.variant == Variant::Rbpf
+            && self.config.size_measurement == SizeMeasurement::Contrast
+            && !self.config.freeze_size
+    }
+
+    /// The region every particle's contrast ring covers.
+    fn particle_region(&self) -> Span {
+        let outer = |p: &Particle| self.contrast_span(&p.ellipse(), self.config.contrast_ring);
+        let mut region = self.particles.first().map(outer).unwrap_or_default();
+        for s in self.particles.iter().map(outer) {
+            region = Span {
+                x0: region.x0.min(s.x0),
+                y0: region.y0.min(s.y0),
+                x1: region.x1.max(s.x1),
+                y1: region.y1.max(s.y1),
+            };
+        }
+        region
+    }
+
+    /// Builds this frame's object map over `region`.
+    fn build_map<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, region: &Span) {
+        let prob = self.colour.object_prob();
+        let n = self.map.build::<Bn, P, B>(frame, region, prob);
+        self.pixels_visited = self.pixels_visited.saturating_add(n);
+    }
+
+    /// The contrast box scale at which `init` has the highest contrast on `frame`, by
+    /// steps of 5 % from 1 (at most 20, within `[1/2, 2]`): the measured sizes are then
+    /// relative to the box the user gave, whatever the target's share of it.
+    fn calibrate<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, init: &Ellipse) -> Q16 {
+        self.calibration = Q16::ONE;
+        if !self.measures_size_by_contrast() && self.derived.contrast.is_none() {
+            return Q16::ONE;
+        }
+        // Over three rings: a coarser map than the per-frame measurement's, measured to
+        // hold the sizes better on the real sequences.
+        let reach = Q16::from_int(3) * self.config.contrast_ring;
+        self.build_map(frame, &self.contrast_span(init, reach));
+        let step = self.config.scale_step;
+        for _ in 0..20 {
+            // The best of one step down, none and one step up (no step on a tie).
+            let mut best = (self.contrast(init), Q16::ONE);
+            for factor in [Q16::ONE - step, Q16::ONE + step] {
+                let c = self.contrast(&Ellipse {
+                    hx: init.hx * factor,
+                    hy: init.hy * factor,
+                    ..*init
+                });
+                if c > best.0 {
+                    best = (c, factor);
+                }
+            }
+            if best.1 == Q16::ONE {
+                break;
+            }
+            self.calibration = (self.calibration * best.1).clamp(Q16::HALF, Q16::from_int(2));
+        }
+        self.calibration
     }
 
     fn weigh<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) {
+        if self.derived.contrast.is_some() {
+            self.build_map(frame, &self.particle_region());
+        }
         if self.config.variant == Variant::Rbpf {
             // Boundary point by boundary point across the particles: their samples of one
             // point lie close together, so the memo computes each pixel's gradient about
@@ -476,10 +618,15 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 &mut self.memo,
             );
         }
+        let mut offset = Q16::MAX;
         for i in 0..N {
             let e = self.particles[i].ellipse();
-            let cue = self.cue_values[i];
-            let (likelihood, _) = self.likelihood(frame, &e, Some(cue));
+            let (colour, gradient, _) = self.costs(frame, &e, Some(self.cue_values[i]));
+            (self.colour_costs[i], self.cue_values[i]) = (colour, gradient);
+            offset = offset.min(colour + gradient);
+        }
+        for i in 0..N {
+            let likelihood = self.likelihood(self.colour_costs[i], self.cue_values[i], offset);
             // weight <= 2^24 (normalised) times likelihood < 2^16, over 2^8: below 2^32.
             self.weights[i] = ((self.weights[i] as u64 * likelihood as u64) >> 8) as u32;
         }
@@ -493,29 +640,53 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// not there) is dropped: the means keep their prediction, while the shared covariance
     /// takes its update regardless, so it stays at its data-independent steady state.
     fn update_sizes<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, bounds: &Bounds) {
-        let mean = self.weighted_mean(|_| true);
+        let mean = self.weighted_mean(|_| true).ellipse;
         let step = self.config.scale_step;
-        let mut best = (0u32, Q16::ONE, Q16::ZERO);
-        for k in [0, -1, 1, -2, 2] {
+        let scaled = |k: i32| {
             let factor = Q16::ONE + step.mul_int(k);
-            let (hy, hx) = bounds.halves(mean.ellipse.hy * factor, mean.ellipse.hx * factor);
-            let e = Ellipse {
-                hx,
-                hy,
-                ..mean.ellipse
+            let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+            (factor, Ellipse { hx, hy, ..mean })
+        };
+        if self.config.size_measurement == SizeMeasurement::Contrast {
+            // The largest scale's ring, with a margin for the map's whole cells.
+            let (_, largest) = scaled(SCALE_STEPS[SCALE_STEPS.len() - 1]);
+            let reach = self.config.contrast_ring * Q16::from_f64(1.1);
+            self.build_map(frame, &self.contrast_span(&largest, reach));
+        }
+        // (score, factor, usable): the highest score among the scales, the first on a tie.
+        let mut best = (i64::MIN, Q16::ONE, false);
+        for k in SCALE_STEPS {
+            let (factor, e) = scaled(k);
+            let (score, usable) = match self.config.size_measurement {
+                // A window that does not stand out from its ring is not on the target.
+                SizeMeasurement::Contrast => {
+                    let c = self.contrast(&e);
+                    (c.to_bits() as i64, c > Q16::ZERO)
+                }
+                SizeMeasurement::Likelihood => {
+                    let (colour, gradient, m) = self.costs(frame, &e, None);
+                    let score = match self.config.cue_mix {
+                        CueMix::Average(_) => self.likelihood(colour, gradient, Q16::ZERO) as i64,
+                        CueMix::Product => -((colour + gradient).to_bits() as i64),
+                    };
+                    // No target there, or (averaged likelihoods) nothing matches at all.
+                    let matched = matches!(self.config.cue_mix, CueMix::Product) || score > 0;
+                    let usable = m.rho >= self.config.lost_below && matched;
+                    (score, usable)
+                }
             };
-            let (likelihood, rho) = self.likelihood(frame, &e, None);
-            if likelihood > best.0 {
-                best = (likelihood, factor, rho);
+            if score > best.0 {
+                best = (score, factor, usable);
             }
         }
         let gain = self.leaf_cov.gain();
         self.leaf_cov.update_cov();
-        if best.0 == 0 || best.2 < self.config.lost_below {
+        let (_, factor, usable) = best;
+        if !usable {
             return;
         }
-        self.scale_factor = Some(best.1);
-        let (hy, hx) = bounds.halves(mean.ellipse.hy * best.1, mean.ellipse.hx * best.1);
+        self.scale_factor = Some(factor);
+        let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
         let y = [hy, hx];
         for p in self.particles.iter_mut() {
             gain.update_mean(&mut p.leaf, y);
@@ -580,12 +751,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 })
             }
         };
-        self.pixels_visited = self.pixels_visited.saturating_add(self.hist.fill::<Bn, P>(
-            frame,
-            &estimate.ellipse,
-            self.config.pixels_per_window,
-        ));
-        let confidence = self.hist.bhattacharyya(&self.model);
+        let m = self
+            .colour
+            .compare::<Bn, P>(frame, &estimate.ellipse, &mut self.scratch);
+        self.pixels_visited = self.pixels_visited.saturating_add(m.pixels);
+        let confidence = m.rho;
         estimate.confidence = confidence;
         estimate.status = if confidence < self.config.lost_below {
             Status::Lost
@@ -596,12 +766,20 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         };
         if estimate.status == Status::Tracking {
             self.last_confident = estimate.ellipse;
+            if self.config.learn_scale_per_row {
+                self.ground
+                    .observe(estimate.ellipse.cy, estimate.ellipse.hy);
+            }
             self.motion_spread = Some(self.next_spread(&estimate));
         } else {
             self.motion_spread = None;
         }
         if confidence >= self.config.adapt_above && self.config.adapt_rate > Q16::ZERO {
-            self.model.update(&self.hist, self.config.adapt_rate);
+            let rate = self.config.adapt_rate;
+            let n = self
+                .colour
+                .adapt::<Bn, P>(frame, &estimate.ellipse, &mut self.scratch, rate);
+            self.pixels_visited = self.pixels_visited.saturating_add(n);
         }
         estimate
     }
