@@ -2,6 +2,7 @@
 //! the `rbtrack` command-line program.
 
 pub mod cli;
+pub mod config_fields;
 pub mod draw;
 pub mod faults;
 pub mod metrics;
