@@ -7,6 +7,7 @@ pub mod draw;
 pub mod faults;
 pub mod metrics;
 pub mod paper;
+pub mod pixels;
 pub mod progress;
 pub mod recovery;
 pub mod reference;
