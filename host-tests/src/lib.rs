@@ -8,7 +8,6 @@ pub mod faults;
 pub mod metrics;
 pub mod paper;
 pub mod pixels;
-pub mod progress;
 pub mod recovery;
 pub mod reference;
 pub mod run;
