@@ -223,10 +223,11 @@ pub struct EvalArgs {
     /// Write the plots into out/eval (or --out) also with --json
     #[arg(long)]
     pub plots: bool,
-    /// Write box files DIR/<sequence>[_<tracker>][_seed<S>].txt
+    /// Write box files DIR/SEQUENCE.txt (SEQUENCE_TRACKER.txt with both trackers, and
+    /// _seedS before .txt with several seeds)
     #[arg(long, value_name = "DIR")]
     pub boxes: Option<PathBuf>,
-    /// Write DIR/<sequence>/0001.png, ... with every run's estimate drawn
+    /// Write DIR/SEQUENCE/0001.png, ... with every run's estimate, status and confidence
     #[arg(long, value_name = "DIR")]
     pub overlay: Option<PathBuf>,
     /// Print one JSON object instead of the table (no plots unless --out or --plots)

@@ -11,7 +11,7 @@ use rbtrack::tracker::Config;
 use std::io::Write;
 
 /// Frames of the demo's image strip.
-pub const STRIP_FRAMES: usize = 8;
+const STRIP_FRAMES: usize = 8;
 
 /// Particles per tracker.
 const PARTICLES: usize = 100;
@@ -19,7 +19,7 @@ const PARTICLES: usize = 100;
 /// Runs `rbtrack demo`: the synthetic scene (seed 1, QVGA), the RBPF and the colour PF with
 /// 100 particles and the scene's settings ([`Scene::configure`]), scored against the
 /// scene's ground truth; prints the table and writes into `--out`: `strip.png`
-/// ([`STRIP_FRAMES`] evenly spaced frames), `demo.gif` (every second frame, unless
+/// (8 evenly spaced frames), `demo.gif` (every second frame, unless
 /// `--no-gif`), `success.png` and `precision.png`.
 pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let mut scene_config = SceneConfig::new(args.scene, 1);

@@ -205,7 +205,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         .map(|s| s.runs.len() * s.frames)
         .sum::<usize>();
     eprintln!(
-        "rbtrack eval: {} sequences, {} runs each, {runs} tracked frames in {seconds:.1} s",
+        "rbtrack eval: {} sequences x {} runs, {runs} tracked frames in {seconds:.1} s",
         results.len(),
         specs.len()
     );

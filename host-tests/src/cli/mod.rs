@@ -1,5 +1,5 @@
 //! The `rbtrack` command-line program: its arguments ([`args`]) and the work behind each
-//! subcommand ([`demo`], [`track`], [`eval`], [`paper`]); `main.rs` only parses and
+//! subcommand ([`demo`], [`track`], [`eval`], [`paper()`]); `main.rs` only parses and
 //! dispatches.
 //!
 //! Conventions:
@@ -192,11 +192,11 @@ pub(crate) fn progress_bar(len: Option<u64>, what: &str) -> ProgressBar {
     let (bar, template) = match len {
         Some(n) => (
             ProgressBar::new(n),
-            "{prefix} [{bar:30}] {pos}/{len} frames, {per_sec}, ETA {eta}",
+            "{prefix} [{bar:30}] {pos}/{len} frames, ETA {eta}",
         ),
         None => (
             ProgressBar::new_spinner(),
-            "{prefix} {spinner} {pos} frames, {per_sec}",
+            "{prefix} {spinner} {pos} frames",
         ),
     };
     let style = ProgressStyle::with_template(template)
