@@ -3,37 +3,52 @@
 
     pip install opencv-contrib-python-headless==5.0.0.93 numpy   # once (this script installs nothing)
     cargo build --release -p rbtrack-host                        # the `rbtrack` binary
-    python3 benches/compare_opencv.py                            # ../shared/data by default
-    python3 benches/compare_opencv.py DATA_DIR --per-sequence --rbtrack target/release/rbtrack
+    python3 benches/compare_opencv.py --zero-based-sequences ball1_vot15   # ../shared/data
+    python3 benches/compare_opencv.py DATA_DIR --seeds 1,2,3 --per-sequence --rbtrack PATH
 
 Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.legacy`,
 default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
-`cv2.CamShift`) and `rbtrack track SEQ --json` (RBPF, and the colour PF), every tracker
-initialised from the first ground-truth box, one pass over every sequence, and prints one
-table: success AUC, precision at 20 px and tracking-only milliseconds per frame, with
-rbtrack's time as a ratio to each tracker's, all measured in this run.
+`cv2.CamShift`) and `rbtrack track` (RBPF and colour PF, over each of `--seeds`) on every
+sequence, and prints one table: success AUC, precision at 20 px and tracking-only
+milliseconds per frame, with rbtrack's time as a ratio to each tracker's, all measured in
+this run.
 
-Conventions, the same as `rbtrack eval` (host-tests/src/metrics.rs, sequence.rs):
-- frames `img/*.jpg|png` ordered by the number in their name; `groundtruth_rect.txt`, one
-  `x,y,w,h` per line (commas, spaces or tabs); boxes are 1-based (OTB, UAV123, PETS) except in
-  folders whose name contains `_vot` (0-based, VOT-derived): everything is converted to
-  0-based before use;
-- a box covers pixels `x..x+w-1`, its centre is `(x + (w-1)/2, y + (h-1)/2)`;
-- every frame with a valid ground-truth box (finite, `w, h > 0`) counts, the first included
-  (the initial box itself);
-- success AUC: mean over the IoU thresholds 0, 0.05, ..., 1 (21) of the share of frames
-  with IoU strictly above the threshold; precision at 20 px: share of frames whose centre
-  error is at most 20 px;
+The protocol, one for every tracker:
+- Frames: each sequence's `img/*.jpg|png`, ordered by the number in their name, read once
+  with `cv2.imread`; the OpenCV trackers get them as read (BGR), rbtrack gets the very same
+  pixels as RGB through a raw dump (`rbtrack track DUMP --raw WxH:rgb888`), so no tracker
+  sees another decoder's pixels.
+- Boxes: `groundtruth_rect.txt` has one `x,y,w,h` per line (commas, spaces or tabs) in a
+  stated convention: 1-based by default (OTB, UAV123, LaSOT and MOT as published),
+  `--zero-based` for all, `--zero-based-sequences NAMES` for some (ball1_vot15 in the shared
+  data, as its README says); `rbtrack eval` takes the same flags. Every box is converted
+  to 0-based pixels (a box covers `x..x+w-1`) before use: OpenCV's trackers are
+  initialised with the first line so converted, rbtrack with the same line and the same
+  convention flag (it converts it the same way), and every tracker is scored against the
+  converted ground truth.
+- Scores (as `rbtrack eval`, host-tests/src/metrics.rs): every frame with a valid
+  ground-truth box (finite, `w, h > 0`) counts, the first included (the initial box
+  itself); success AUC is the mean over the IoU thresholds 0, 0.05, ..., 1 (21) of the
+  share of frames with IoU strictly above the threshold; precision at 20 px is the share of
+  frames whose centre error (centres `x + (w-1)/2, y + (h-1)/2`) is at most 20 px. The
+  table's figures are means over sequences; rbtrack's are first averaged over its seeds.
 - ms/frame: time inside the tracker's update (OpenCV: `tracker.update(frame)`; CamShift:
   HSV conversion, back-projection and `cv2.CamShift`; rbtrack: its own `ms_per_frame`,
-  time inside `Tracker::step`), decoding excluded, averaged over the frames after the first;
-  the table's figure is the mean over sequences. OpenCV runs on one thread
-  (`cv2.setNumThreads(1)`, `--threads` to change) like rbtrack.
-- a tracker that reports failure for a frame keeps its last box.
+  time inside `Tracker::step`), reading excluded, averaged over the frames after the first;
+  OpenCV runs on one thread (`cv2.setNumThreads(1)`, `--threads` to change) like rbtrack.
+- A tracker that reports failure for a frame keeps its last box.
 
 rbtrack's scores come from its JSON; the script recomputes them from its `--boxes` output
 (two decimals) with the metrics below and warns if they differ by more than 0.002 (a check
 of this script's metrics; the rounding of the box file moves an AUC by up to ~5e-4).
+
+Feeding OpenCV the first line *unconverted* (the file's 1-based box on 0-based images, one
+pixel right of and below the annotated target; `--zero-based` reproduces it) moves its
+scores a lot: CSRT 0.702 instead of 0.649 on Crossing, KiteSurf, PETS09S2L1_id11,
+ball1_vot15 and boat1_uav (KiteSurf 0.501 instead of 0.314), 0.589 instead of 0.531 on the
+14 shared sequences (TUDStadtmitte_id2 0.697 instead of 0.070). The trackers are
+sensitive to the decoder too (rbtrack's own JPEG decoding instead of `cv2.imread`'s pixels
+moves its mean AUC by up to a few hundredths), hence one reader for all.
 """
 
 import argparse
@@ -80,25 +95,31 @@ def read_boxes(path):
     return boxes
 
 
-def zero_based(name):
-    """Whether the folder's boxes are 0-based (VOT-derived), as GtOrigin::for_sequence."""
-    return "_vot" in name.lower()
-
-
-def to_zero_based(box, name):
-    if zero_based(name):
+def to_zero_based(box, zero_based):
+    """A box of a file in the given convention, in 0-based pixels."""
+    if zero_based:
         return box
     x, y, w, h = box
     return (x - 1.0, y - 1.0, w, h)
 
 
 def frame_paths(seq):
+    """The frames in rbtrack's order: by the number their name starts with, then by name."""
     def number(p):
-        digits = re.findall(r"\d+", p.stem)
-        return (int(digits[-1]) if digits else -1, p.name)
+        digits = re.match(r"\d+", p.name)
+        return (int(digits.group()) if digits else math.inf, p.name)
 
-    paths = [p for p in (seq / "img").iterdir() if p.suffix.lower() in (".jpg", ".png")]
+    suffixes = (".jpg", ".jpeg", ".png")
+    paths = [p for p in (seq / "img").iterdir() if p.suffix.lower() in suffixes]
     return sorted(paths, key=number)
+
+
+def read_frames(seq):
+    """Every frame of a sequence as read by `cv2.imread` (BGR)."""
+    frames = [cv2.imread(str(p), cv2.IMREAD_COLOR) for p in frame_paths(seq)]
+    if not frames or any(f is None for f in frames):
+        sys.exit(f"compare_opencv.py: cannot read the frames of {seq}")
+    return frames
 
 
 def sequences(data):
@@ -197,11 +218,9 @@ class CamShift:
 
 def run_peer(make, frames, init):
     """0-based boxes and mean ms per frame (after the first) of one tracker over frames."""
-    first = cv2.imread(str(frames[0]), cv2.IMREAD_COLOR)
-    tracker = make(first, init)
+    tracker = make(frames[0], init)
     boxes, times = [init], []
-    for path in frames[1:]:
-        frame = cv2.imread(str(path), cv2.IMREAD_COLOR)
+    for frame in frames[1:]:
         t0 = time.perf_counter()
         box = tracker.update(frame)
         times.append(time.perf_counter() - t0)
@@ -209,17 +228,31 @@ def run_peer(make, frames, init):
     return boxes, 1000.0 * statistics.fmean(times) if times else 0.0
 
 
-def run_rbtrack(binary, seq, tracker, args):
+def write_dump(frames, path):
+    """The frames as RGB888, back to back: what `rbtrack track --raw WxH:rgb888` reads."""
+    with open(path, "wb") as f:
+        for frame in frames:
+            f.write(cv2.cvtColor(frame, cv2.COLOR_BGR2RGB).tobytes())
+    height, width = frames[0].shape[:2]
+    return f"{width}x{height}:rgb888"
+
+
+def run_rbtrack(binary, seq, dump, layout, zero_based, tracker, seed, args):
+    """rbtrack's JSON result and 0-based boxes for one tracker and seed over the dump."""
     with tempfile.TemporaryDirectory() as tmp:
         boxes_file = Path(tmp) / "boxes.txt"
+        groundtruth = seq / "groundtruth_rect.txt"
+        first = read_boxes(groundtruth)[0]
         cmd = [
-            str(binary), "track", str(seq), "--tracker", tracker, "--json",
-            "--particles", str(args.particles), "--seed", str(args.seed),
-            "--boxes", str(boxes_file),
+            str(binary), "track", str(dump), "--raw", layout,
+            "--zero-based" if zero_based else "--one-based",
+            "--init", ",".join(repr(v) for v in first), "--groundtruth", str(groundtruth),
+            "--tracker", tracker, "--seed", str(seed), "--particles", str(args.particles),
+            "--json", "--boxes", str(boxes_file),
         ]
         out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
         result = json.loads(out)
-        boxes = [to_zero_based(b, seq.name) for b in read_boxes(boxes_file)]
+        boxes = [to_zero_based(b, zero_based) for b in read_boxes(boxes_file)]
     return result, boxes
 
 
@@ -247,7 +280,14 @@ def main():
     parser.add_argument("data", nargs="?", default=str(REPO.parent / "shared" / "data"))
     parser.add_argument("--rbtrack", help="path of the rbtrack binary")
     parser.add_argument("--particles", type=int, default=100)
-    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--seeds", default="1", help="rbtrack's seeds, comma-separated (default 1)")
+    convention = parser.add_mutually_exclusive_group()
+    convention.add_argument("--zero-based", action="store_true",
+                            help="ground-truth files count pixels from 0")
+    convention.add_argument("--one-based", action="store_true",
+                            help="ground-truth files count pixels from 1 (the default)")
+    parser.add_argument("--zero-based-sequences", default="",
+                        help="comma-separated sequences whose ground truth counts from 0")
     parser.add_argument("--threads", type=int, default=1, help="OpenCV threads (default 1)")
     parser.add_argument("--per-sequence", action="store_true", help="also print every sequence")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
@@ -256,6 +296,11 @@ def main():
     data = Path(args.data)
     if not data.is_dir():
         sys.exit(f"compare_opencv.py: no data folder {data}")
+    seeds = [int(s) for s in args.seeds.split(",") if s.strip()]
+    zero_named = {n.strip() for n in args.zero_based_sequences.split(",") if n.strip()}
+    missing = zero_named - {seq.name for seq in sequences(data)}
+    if missing:
+        sys.exit(f"compare_opencv.py: --zero-based-sequences: no sequence {sorted(missing)} in {data}")
     binary = find_rbtrack(args.rbtrack)
     cv2.setNumThreads(args.threads)
 
@@ -264,22 +309,32 @@ def main():
     names = ["rbtrack-rbpf", "rbtrack-pf", *peers]
     rows = {n: [] for n in names}  # per sequence: (sequence, auc, prec20, ms)
     for seq in sequences(data):
-        truth = [to_zero_based(b, seq.name) for b in read_boxes(seq / "groundtruth_rect.txt")]
-        frames = frame_paths(seq)
-        for tracker in ("rbpf", "pf"):
-            result, boxes = run_rbtrack(binary, seq, tracker, args)
-            auc, prec = scores(truth, boxes)
-            # The box file has two decimals, so an IoU next to a threshold can land on
-            # either side: allow a little.
-            if abs(auc - result["auc"]) > 2e-3 or abs(prec - result["prec20"]) > 2e-3:
-                print(
-                    f"warning: {seq.name} {tracker}: recomputed AUC {auc:.6f} / prec {prec:.6f} "
-                    f"differ from rbtrack's {result['auc']:.6f} / {result['prec20']:.6f}",
-                    file=sys.stderr,
+        zero_based = args.zero_based or seq.name in zero_named
+        truth = [to_zero_based(b, zero_based) for b in read_boxes(seq / "groundtruth_rect.txt")]
+        frames = read_frames(seq)
+        with tempfile.TemporaryDirectory() as tmp:
+            dump = Path(tmp) / f"{seq.name}.rgb"
+            layout = write_dump(frames, dump)
+            for tracker in ("rbpf", "pf"):
+                per_seed = []
+                for seed in seeds:
+                    result, boxes = run_rbtrack(
+                        binary, seq, dump, layout, zero_based, tracker, seed, args
+                    )
+                    auc, prec = scores(truth, boxes)
+                    # The box file has two decimals, so an IoU next to a threshold can land
+                    # on either side: allow a little.
+                    if abs(auc - result["auc"]) > 2e-3 or abs(prec - result["prec20"]) > 2e-3:
+                        print(
+                            f"warning: {seq.name} {tracker} seed {seed}: recomputed AUC "
+                            f"{auc:.6f} / prec {prec:.6f} differ from rbtrack's "
+                            f"{result['auc']:.6f} / {result['prec20']:.6f}",
+                            file=sys.stderr,
+                        )
+                    per_seed.append((result["auc"], result["prec20"], result["ms_per_frame"]))
+                rows[f"rbtrack-{tracker}"].append(
+                    (seq.name, *(statistics.fmean(r[i] for r in per_seed) for i in range(3)))
                 )
-            rows[f"rbtrack-{tracker}"].append(
-                (seq.name, result["auc"], result["prec20"], result["ms_per_frame"])
-            )
         for name, make in peers.items():
             boxes, ms = run_peer(make, frames, truth[0])
             auc, prec = scores(truth, boxes)
@@ -292,7 +347,9 @@ def main():
     }
     rb_ms = mean["rbtrack-rbpf"][2]
     if args.json:
-        print(json.dumps({"data": str(data), "particles": args.particles, "seed": args.seed,
+        print(json.dumps({"data": str(data), "particles": args.particles, "seeds": seeds,
+                          "zero_based": args.zero_based,
+                          "zero_based_sequences": sorted(zero_named),
                           "opencv": cv2.__version__, "threads": args.threads,
                           "sequences": {n: rows[n] for n in names},
                           "mean": {n: dict(zip(("auc", "prec20", "ms_per_frame"), mean[n]))
@@ -300,7 +357,10 @@ def main():
         return
     print(
         f"{data}: {len(rows['CSRT'])} sequences; OpenCV {cv2.__version__} on {args.threads} "
-        f"thread(s); rbtrack N = {args.particles}, seed {args.seed}; means over sequences"
+        f"thread(s); rbtrack N = {args.particles}, seeds {args.seeds} (mean); boxes "
+        f"{'0-based' if args.zero_based else '1-based'}"
+        f"{' except ' + ', '.join(sorted(zero_named)) if zero_named else ''}; "
+        f"means over sequences"
     )
     print()
     print(f"{'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}  rbtrack-rbpf time / this")

@@ -16,7 +16,7 @@ use rbtrack_host::metrics::Evaluation;
 use rbtrack_host::recovery::recovery;
 use rbtrack_host::run::{track, Options};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant as SceneVariant};
-use rbtrack_host::sequence::{shared_data_dir, Sequence};
+use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence};
 use std::path::PathBuf;
 
 const SETTINGS: [(f64, f64); 3] = [(0.0, 0.15), (2.0, 0.15), (4.0, 0.15)];
@@ -45,7 +45,10 @@ fn main() {
     let sequences: Vec<(Sequence, Vec<_>)> = data
         .iter()
         .flat_map(|d| std::fs::read_dir(d).into_iter().flatten().flatten())
-        .filter_map(|entry| Sequence::open(entry.path()).ok())
+        .filter_map(|entry| {
+            let origin = GtOrigin::of_shared(&entry.file_name().to_string_lossy());
+            Sequence::open(entry.path(), origin).ok()
+        })
         .map(|seq| {
             let frames = seq.frames().filter_map(Result::ok).collect();
             (seq, frames)
@@ -82,16 +85,11 @@ fn main() {
                 let mean: f64 = (1..=5)
                     .map(|seed| {
                         let scene = Scene::new(SceneConfig::new(kind, seed)).expect("scene");
-                        let frames: Vec<Vec<u8>> = scene.frames().collect();
-                        let (w, h) = (scene.width() as usize, scene.height() as usize);
+                        let frames: Vec<_> = scene.frames().collect();
                         let truth = scene.boxes();
                         let options = scene_options(Variant::Rbpf, seed, &scene, setting);
-                        let (boxes, _) = track(
-                            &options,
-                            frames.iter().map(|f| (f.as_slice(), w, h)),
-                            &truth[0],
-                        )
-                        .expect("tracker starts");
+                        let (boxes, _) =
+                            track(&options, &frames, &truth[0]).expect("tracker starts");
                         Evaluation::new(&truth, &boxes).mean_iou
                     })
                     .sum::<f64>()
@@ -113,14 +111,8 @@ fn main() {
                         .iter()
                         .map(|(seq, frames)| {
                             let init = seq.init_box().expect("ground truth");
-                            let (boxes, _) = track(
-                                &options,
-                                frames.iter().map(|f| {
-                                    (f.rgb.as_slice(), f.width as usize, f.height as usize)
-                                }),
-                                &init,
-                            )
-                            .expect("tracker starts");
+                            let (boxes, _) =
+                                track(&options, frames, &init).expect("tracker starts");
                             Evaluation::new(&seq.groundtruth, &boxes).success_auc
                         })
                         .sum::<f64>()

@@ -180,6 +180,46 @@ pub fn draw_cross(
     }
 }
 
+/// Writes `lines` of text (each in its colour) in the top-left corner of an RGB888 frame,
+/// on a darkened panel; the font size follows the frame's height (at least 10 px). A
+/// frame too small for the text shows what fits.
+pub fn draw_text_lines(
+    rgb: &mut [u8],
+    width: u32,
+    height: u32,
+    lines: &[(String, Rgb)],
+) -> Result<(), DrawError> {
+    check(rgb, width, height)?;
+    if lines.is_empty() {
+        return Ok(());
+    }
+    register_fonts();
+    let size = (height / 24).max(10);
+    let perr = |e: &dyn fmt::Display| DrawError::Plot(e.to_string());
+    let root = BitMapBackend::with_buffer(rgb, (width, height)).into_drawing_area();
+    let font = ("sans-serif", size).into_font();
+    let white = font.color(&WHITE);
+    let pad = (size / 4).max(2) as i32;
+    let line_height = size as i32 + pad;
+    let text_width = lines
+        .iter()
+        .map(|(text, _)| root.estimate_text_size(text, &white).map_or(0, |(w, _)| w))
+        .max()
+        .unwrap_or(0) as i32;
+    let panel = [
+        (0, 0),
+        (text_width + 2 * pad, lines.len() as i32 * line_height + pad),
+    ];
+    root.draw(&Rectangle::new(panel, BLACK.mix(0.55).filled()))
+        .map_err(|e| perr(&e))?;
+    for (k, (text, [r, g, b])) in lines.iter().enumerate() {
+        let style = font.clone().color(&RGBColor(*r, *g, *b));
+        root.draw_text(text, &style, (pad, pad + k as i32 * line_height))
+            .map_err(|e| perr(&e))?;
+    }
+    root.present().map_err(|e| perr(&e))
+}
+
 /// Writes an RGB888 frame as PNG.
 pub fn save_png(
     path: impl AsRef<Path>,
@@ -294,7 +334,8 @@ pub const PLOT_SIZE: (u32, u32) = (640, 480);
 
 static FONT: Once = Once::new();
 
-fn register_fonts() {
+/// Registers the embedded Noto Sans as `sans-serif` for plotters (once).
+pub(crate) fn register_fonts() {
     FONT.call_once(|| {
         // Cannot fail for the embedded, valid font; a failure would only lose the text.
         let _ = register_font("sans-serif", FontStyle::Normal, ttf_noto_sans::REGULAR);

@@ -2,11 +2,12 @@
 //! the `rbtrack` command-line program.
 
 pub mod cli;
+pub mod config_fields;
 pub mod draw;
 pub mod faults;
 pub mod metrics;
 pub mod paper;
-pub mod progress;
+pub mod pixels;
 pub mod recovery;
 pub mod reference;
 pub mod run;

@@ -55,6 +55,7 @@ use rbtrack::kalman::{self, predict_mean, BlockNoise, SharedCovariance, Sym2};
 use rbtrack::likelihood::exp_neg;
 use rbtrack::resample::{resample, Scheme};
 use rbtrack::rng::Rng;
+use serde::Serialize;
 
 /// Sampling interval `T` (time units per step). With `|u|` reaching ~20 in 100 steps,
 /// `y` moves up to `6 T |u|` ~ 36 units a step, so the 5-versus-6 dependency error is worth
@@ -467,7 +468,7 @@ pub fn run_pf(
 
 /// Mean and standard deviation over runs of the per-run time-averaged errors, and the
 /// error curves over time averaged over runs.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Summary {
     /// Location error: mean over runs of the per-run mean over time.
     pub loc: f64,
@@ -482,10 +483,13 @@ pub struct Summary {
     /// Its standard deviation over runs.
     pub v_std: f64,
     /// Location error of each run (mean over time), in run order.
+    #[serde(skip)]
     pub loc_runs: Vec<f64>,
     /// Location error at each time step `1..=steps`, mean over runs.
+    #[serde(skip)]
     pub loc_curve: Vec<f64>,
     /// `|u|` error at each time step, mean over runs.
+    #[serde(skip)]
     pub vel_curve: Vec<f64>,
 }
 
@@ -517,7 +521,7 @@ impl Summary {
 }
 
 /// One point of the dependency sweep (RBPF).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SweepPoint {
     /// Assumed dependency `S`.
     pub s: u32,
@@ -530,7 +534,7 @@ pub struct SweepPoint {
 }
 
 /// One point of the particle-count comparison.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CountPoint {
     /// Particles.
     pub n: usize,
@@ -696,94 +700,57 @@ pub fn table(study: &Study, params: &Params) -> String {
     out
 }
 
+/// The study's parameters as the JSON output shows them.
+#[derive(Serialize)]
+struct ParamsJson {
+    t: f64,
+    ss: f64,
+    sz: f64,
+    steps: usize,
+    start: [f64; 3],
+    s_true: f64,
+    s_model: f64,
+    runs: usize,
+    particles: usize,
+}
+
+/// The study as the JSON output shows it.
+#[derive(Serialize)]
+struct StudyJson<'a> {
+    rbpf: &'a Summary,
+    pf: &'a Summary,
+    sweep: &'a [SweepPoint],
+    particles: &'a [CountPoint],
+    params: ParamsJson,
+}
+
 /// The study as JSON: `{"rbpf": {"loc", "loc_std", "vel", "vel_std", "v", "v_std"},
 /// "pf": {..}, "sweep": [{"s", "loc", "v", "vel"}], "particles": [{"n", "rbpf_loc",
-/// "pf_loc", "rbpf_vel", "pf_vel"}], "params": {..}}`.
-pub fn json(study: &Study, params: &Params) -> String {
-    let num = |v: f64| {
-        if v.is_finite() {
-            format!("{v:.6}")
-        } else {
-            "null".to_string()
-        }
+/// "pf_loc", "rbpf_vel", "pf_vel"}], "params": {..}}`; non-finite numbers are `null`.
+pub fn json(study: &Study, params: &Params) -> serde_json::Value {
+    let doc = StudyJson {
+        rbpf: &study.rbpf,
+        pf: &study.pf,
+        sweep: &study.sweep,
+        particles: &study.counts,
+        params: ParamsJson {
+            t: params.t,
+            ss: params.ss,
+            sz: params.sz,
+            steps: params.steps,
+            start: params.start,
+            s_true: params.s_true,
+            s_model: S_MODEL,
+            runs: study.runs,
+            particles: study.particles,
+        },
     };
-    let summary = |s: &Summary| {
-        format!(
-            "{{\"loc\": {}, \"loc_std\": {}, \"vel\": {}, \"vel_std\": {}, \"v\": {}, \"v_std\": {}}}",
-            num(s.loc),
-            num(s.loc_std),
-            num(s.vel),
-            num(s.vel_std),
-            num(s.v),
-            num(s.v_std)
-        )
-    };
-    let sweep = study
-        .sweep
-        .iter()
-        .map(|p| {
-            format!(
-                "{{\"s\": {}, \"loc\": {}, \"v\": {}, \"vel\": {}}}",
-                p.s,
-                num(p.loc),
-                num(p.v),
-                num(p.vel)
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(", ");
-    let counts = study
-        .counts
-        .iter()
-        .map(|c| {
-            format!(
-                "{{\"n\": {}, \"rbpf_loc\": {}, \"pf_loc\": {}, \"rbpf_vel\": {}, \"pf_vel\": {}}}",
-                c.n,
-                num(c.rbpf_loc),
-                num(c.pf_loc),
-                num(c.rbpf_vel),
-                num(c.pf_vel)
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(", ");
-    format!(
-        "{{\"rbpf\": {}, \"pf\": {}, \"sweep\": [{}], \"particles\": [{}], \"params\": {{\"t\": {}, \
-         \"ss\": {}, \"sz\": {}, \"steps\": {}, \"start\": [{}, {}, {}], \"s_true\": {}, \
-         \"s_model\": {}, \"runs\": {}, \"particles\": {}}}}}",
-        summary(&study.rbpf),
-        summary(&study.pf),
-        sweep,
-        counts,
-        num(params.t),
-        num(params.ss),
-        num(params.sz),
-        params.steps,
-        num(params.start[0]),
-        num(params.start[1]),
-        num(params.start[2]),
-        num(params.s_true),
-        num(S_MODEL),
-        study.runs,
-        study.particles
-    )
+    // Plain structs of numbers: serialising them cannot fail.
+    serde_json::to_value(doc).unwrap_or_default()
 }
 
 /// Plot size, px (each figure has two panels side by side).
 pub const PLOT_SIZE: (u32, u32) = (1200, 480);
-
-static FONT: std::sync::Once = std::sync::Once::new();
-
-fn register_fonts() {
-    FONT.call_once(|| {
-        // Cannot fail for the embedded, valid font; a failure would only lose the text.
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            plotters::style::FontStyle::Normal,
-            ttf_noto_sans::REGULAR,
-        );
-    });
-}
 
 /// One line of a panel.
 struct Line<'a> {
@@ -867,7 +834,7 @@ fn figure(
     right: (&str, &str, &str, &[Line]),
 ) -> Result<(), String> {
     use plotters::prelude::*;
-    register_fonts();
+    crate::draw::register_fonts();
     let (w, h) = PLOT_SIZE;
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {

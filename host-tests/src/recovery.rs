@@ -51,16 +51,15 @@ impl Recovery {
 /// # Errors
 /// The tracker rejects the configuration or the initial box.
 pub fn recovery(scene: &Scene, options: &Options) -> Result<Recovery, RunError> {
-    let (w, h) = (scene.width() as usize, scene.height() as usize);
     let mut frames = scene.frames();
     let Some(first) = frames.next() else {
         return Ok(Recovery::default());
     };
-    let mut runner = start(options, &first, w, h, &scene.boxes()[0])?;
+    let mut runner = start(options, &first, &scene.boxes()[0])?;
     let mut r = Recovery::default();
     let (mut was_covered, mut back) = (false, None);
     for (i, frame) in (1..).zip(frames) {
-        let step = runner.step(&frame, w, h)?;
+        let step = runner.step(&frame)?;
         let Some(truth) = scene.truth(i) else { break };
         was_covered |= truth.visible_fraction < 1.0;
         if !truth.visible {

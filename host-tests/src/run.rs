@@ -1,12 +1,15 @@
-//! Runs the core tracker over RGB888 frames: the glue between frames, boxes and the
-//! `no_std` API, shared by the command-line program and the behaviour tests.
+//! Runs the core tracker over [`Frame`]s in any of the core's pixel formats: the glue
+//! between frames, boxes and the `no_std` API, shared by the command-line program and the
+//! behaviour tests. Each frame is handed to the tracker in its own format, as a camera
+//! would deliver it.
 //!
 //! Particle counts are const generics in the core; [`Options::particles`] picks one of
 //! [`PARTICLE_COUNTS`] at run time. Colour bins: 8x8x8 RGB (512).
 
 use crate::metrics::BBox;
+use crate::pixels::{Format, Frame};
 use rbtrack::fixed::Q16;
-use rbtrack::image::{ImageView, PixelFormat, Rgb565Le, Rgb888, Rgb8x8x8};
+use rbtrack::image::{Gray8, ImageView, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x8, Yuv422};
 use rbtrack::tracker::{Config, ConfigError, Estimate, Tracker, Variant};
 use rbtrack::window::Ellipse;
 use std::fmt;
@@ -15,15 +18,6 @@ use std::time::{Duration, Instant};
 /// Particle counts the harness can run (the core takes any `N` in `1..=65535`).
 pub const PARTICLE_COUNTS: [usize; 6] = [25, 50, 100, 200, 400, 800];
 
-/// Pixel format the frames are handed to the tracker in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// 3 bytes per pixel, as decoded.
-    Rgb888,
-    /// Converted to RGB565 little-endian first, as a camera delivers.
-    Rgb565,
-}
-
 /// What to run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
@@ -31,17 +25,14 @@ pub struct Options {
     pub config: Config,
     /// Particle count, one of [`PARTICLE_COUNTS`].
     pub particles: usize,
-    /// Pixel format handed to the tracker.
-    pub format: Format,
 }
 
 impl Options {
-    /// The defaults for `variant`: 100 particles, RGB888.
+    /// The defaults for `variant`, 100 particles.
     pub fn new(variant: Variant) -> Self {
         Self {
             config: Config::new(variant),
             particles: 100,
-            format: Format::Rgb888,
         }
     }
 }
@@ -76,7 +67,7 @@ pub struct Step {
     pub estimate: Estimate,
     /// Its box.
     pub bbox: BBox,
-    /// Time inside `step` (format conversion excluded).
+    /// Time inside `step`.
     pub elapsed: Duration,
     /// Pixels the step read into histograms.
     pub pixels_visited: u32,
@@ -84,8 +75,10 @@ pub struct Step {
 
 /// A tracker of any supported size behind one interface.
 pub trait Run {
-    /// Tracks one RGB888 frame of `width x height` px.
-    fn step(&mut self, rgb: &[u8], width: usize, height: usize) -> Result<Step, RunError>;
+    /// Tracks one frame.
+    fn step(&mut self, frame: &Frame) -> Result<Step, RunError>;
+    /// The current estimate (the initial box's before any step).
+    fn estimate(&self) -> Estimate;
 }
 
 /// The ellipse of a 0-based box ([`BBox::to_ellipse_f64`]) in Q16.16.
@@ -112,75 +105,57 @@ pub fn bbox_of(e: &Estimate) -> BBox {
 
 struct Runner<const N: usize> {
     tracker: Tracker<Rgb8x8x8, N, 512>,
-    format: Format,
-    scratch: Vec<u8>,
 }
 
-fn view<'a, P: PixelFormat>(
-    buf: &'a [u8],
-    width: usize,
-    height: usize,
-) -> Result<ImageView<'a, P>, RunError> {
-    ImageView::new(buf, width, height, width).map_err(|e| RunError::Frame(e.to_string()))
+fn view<P: PixelFormat>(frame: &Frame) -> Result<ImageView<'_, P>, RunError> {
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    ImageView::new(&frame.bytes, w, h, w).map_err(|e| RunError::Frame(e.to_string()))
 }
 
-fn rgb565_into(rgb: &[u8], out: &mut Vec<u8>) {
-    out.clear();
-    for p in rgb.chunks_exact(3) {
-        let v = ((p[0] as u16 >> 3) << 11) | ((p[1] as u16 >> 2) << 5) | (p[2] as u16 >> 3);
-        out.extend_from_slice(&v.to_le_bytes());
-    }
+/// Evaluates `$body` with `$view` the frame's checked [`ImageView`] in its own format.
+macro_rules! with_view {
+    ($frame:expr, $view:ident => $body:expr) => {
+        match $frame.format {
+            Format::Gray8 => {
+                let $view = view::<Gray8>($frame)?;
+                $body
+            }
+            Format::Rgb565Le => {
+                let $view = view::<Rgb565Le>($frame)?;
+                $body
+            }
+            Format::Rgb565Be => {
+                let $view = view::<Rgb565Be>($frame)?;
+                $body
+            }
+            Format::Rgb888 => {
+                let $view = view::<Rgb888>($frame)?;
+                $body
+            }
+            Format::Yuyv => {
+                let $view = view::<Yuv422>($frame)?;
+                $body
+            }
+        }
+    };
 }
 
 impl<const N: usize> Runner<N> {
-    fn start(
-        options: &Options,
-        rgb: &[u8],
-        width: usize,
-        height: usize,
-        init: &BBox,
-    ) -> Result<Self, RunError> {
+    fn start(config: Config, frame: &Frame, init: &BBox) -> Result<Self, RunError> {
         let init = ellipse_of(init);
-        let mut scratch = Vec::new();
-        let tracker = match options.format {
-            Format::Rgb888 => {
-                Tracker::new(options.config, &view::<Rgb888>(rgb, width, height)?, init)
-            }
-            Format::Rgb565 => {
-                rgb565_into(rgb, &mut scratch);
-                Tracker::new(
-                    options.config,
-                    &view::<Rgb565Le>(&scratch, width, height)?,
-                    init,
-                )
-            }
-        }
-        .map_err(RunError::Config)?;
-        Ok(Self {
-            tracker,
-            format: options.format,
-            scratch,
-        })
+        let tracker =
+            with_view!(frame, v => Tracker::new(config, &v, init)).map_err(RunError::Config)?;
+        Ok(Self { tracker })
     }
 }
 
 impl<const N: usize> Run for Runner<N> {
-    fn step(&mut self, rgb: &[u8], width: usize, height: usize) -> Result<Step, RunError> {
-        let (estimate, elapsed) = match self.format {
-            Format::Rgb888 => {
-                let frame = view::<Rgb888>(rgb, width, height)?;
-                let start = Instant::now();
-                let e = self.tracker.step(&frame);
-                (e, start.elapsed())
-            }
-            Format::Rgb565 => {
-                rgb565_into(rgb, &mut self.scratch);
-                let frame = view::<Rgb565Le>(&self.scratch, width, height)?;
-                let start = Instant::now();
-                let e = self.tracker.step(&frame);
-                (e, start.elapsed())
-            }
-        };
+    fn step(&mut self, frame: &Frame) -> Result<Step, RunError> {
+        let (estimate, elapsed) = with_view!(frame, v => {
+            let start = Instant::now();
+            let e = self.tracker.step(&v);
+            (e, start.elapsed())
+        });
         Ok(Step {
             estimate,
             bbox: bbox_of(&estimate),
@@ -188,52 +163,49 @@ impl<const N: usize> Run for Runner<N> {
             pixels_visited: self.tracker.pixels_visited(),
         })
     }
+
+    fn estimate(&self) -> Estimate {
+        self.tracker.estimate()
+    }
 }
 
-/// Starts a tracker on the first frame (`width x height` RGB888) and box `init` (0-based).
-pub fn start(
-    options: &Options,
-    rgb: &[u8],
-    width: usize,
-    height: usize,
-    init: &BBox,
-) -> Result<Box<dyn Run>, RunError> {
+/// Starts a tracker on the first frame and box `init` (0-based).
+pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Run>, RunError> {
     fn boxed<const N: usize>(
-        o: &Options,
-        rgb: &[u8],
-        w: usize,
-        h: usize,
+        config: Config,
+        frame: &Frame,
         init: &BBox,
     ) -> Result<Box<dyn Run>, RunError> {
-        Ok(Box::new(Runner::<N>::start(o, rgb, w, h, init)?))
+        Ok(Box::new(Runner::<N>::start(config, frame, init)?))
     }
+    let config = options.config;
     match options.particles {
-        25 => boxed::<25>(options, rgb, width, height, init),
-        50 => boxed::<50>(options, rgb, width, height, init),
-        100 => boxed::<100>(options, rgb, width, height, init),
-        200 => boxed::<200>(options, rgb, width, height, init),
-        400 => boxed::<400>(options, rgb, width, height, init),
-        800 => boxed::<800>(options, rgb, width, height, init),
+        25 => boxed::<25>(config, frame, init),
+        50 => boxed::<50>(config, frame, init),
+        100 => boxed::<100>(config, frame, init),
+        200 => boxed::<200>(config, frame, init),
+        400 => boxed::<400>(config, frame, init),
+        800 => boxed::<800>(config, frame, init),
         n => Err(RunError::Particles(n)),
     }
 }
 
-/// Tracks a whole sequence of RGB888 frames from `init` (the box of frame 0). The first
-/// returned box is `init` itself; then one step per following frame.
+/// Tracks a whole sequence of frames from `init` (the box of frame 0). The first returned
+/// box is `init` itself; then one step per following frame.
 pub fn track<'a>(
     options: &Options,
-    frames: impl IntoIterator<Item = (&'a [u8], usize, usize)>,
+    frames: impl IntoIterator<Item = &'a Frame>,
     init: &BBox,
 ) -> Result<(Vec<BBox>, Vec<Step>), RunError> {
     let mut frames = frames.into_iter();
-    let Some((rgb, w, h)) = frames.next() else {
+    let Some(first) = frames.next() else {
         return Ok((Vec::new(), Vec::new()));
     };
-    let mut runner = start(options, rgb, w, h, init)?;
+    let mut runner = start(options, first, init)?;
     let mut boxes = vec![*init];
     let mut steps = Vec::new();
-    for (rgb, w, h) in frames {
-        let step = runner.step(rgb, w, h)?;
+    for frame in frames {
+        let step = runner.step(frame)?;
         boxes.push(step.bbox);
         steps.push(step);
     }

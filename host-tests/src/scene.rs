@@ -27,6 +27,7 @@
 //! ```
 
 use crate::metrics::BBox;
+use crate::pixels::Frame;
 use rbtrack::fixed::Q16;
 use rbtrack::tracker::Config;
 use std::fmt;
@@ -450,16 +451,12 @@ impl Scene {
             .collect())
     }
 
-    /// Renders frame `index` as RGB565 little-endian (2 bytes per pixel, as a camera
-    /// delivers it).
-    pub fn render_rgb565_le(&self, index: usize) -> Result<Vec<u8>, SceneError> {
-        self.render(index)
-            .map(|rgb| crate::sequence::rgb888_to_rgb565_le(&rgb))
-    }
-
-    /// Iterator over the rendered RGB888 frames, in order.
-    pub fn frames(&self) -> impl Iterator<Item = Vec<u8>> + '_ {
-        (0..self.len()).filter_map(|i| self.render(i).ok())
+    /// Iterator over the rendered frames (RGB888), in order.
+    pub fn frames(&self) -> impl Iterator<Item = Frame> + '_ {
+        (0..self.len()).filter_map(|i| {
+            let rgb = self.render(i).ok()?;
+            Frame::rgb888(self.width(), self.height(), rgb).ok()
+        })
     }
 }
 

@@ -2,19 +2,19 @@
 //! `<dir>/groundtruth_rect.txt`.
 //!
 //! Frames (JPEG or PNG, sorted by the number in their name, then by name) are decoded
-//! lazily, one at a time, into RGB888 (`width * height * 3` bytes, row-major, no padding);
-//! [`rgb888_to_rgb565_le`] turns one into the RGB565 little-endian bytes a camera delivers.
+//! lazily, one at a time, into RGB888 [`Frame`]s.
 //!
 //! Ground truth has one `x,y,w,h` line per frame, separated by commas, spaces or tabs
 //! (blank lines are skipped; `NaN` is accepted and marks a frame without a valid box).
-//! OTB, UAV123 and PETS files are 1-based and are converted to 0-based by subtracting 1
-//! from `x` and `y` ([`GtOrigin::OneBased`], the default). A known wart: VOT-derived
-//! sequences such as `ball1_vot15` are already 0-based; [`GtOrigin::for_sequence`] knows
-//! the `_vot` naming, otherwise pass the origin explicitly to [`Sequence::open_with`].
+//! Whether a file counts pixels from 1 (OTB, UAV123, LaSOT, MOT as published:
+//! [`GtOrigin::OneBased`], the default) or from 0 (VOT-derived boxes:
+//! [`GtOrigin::ZeroBased`]) is stated by the caller, never guessed; boxes in memory are
+//! 0-based.
 //!
 //! No function here panics on bad input: every failure is a [`SequenceError`].
 
 use crate::metrics::BBox;
+use crate::pixels::Frame;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -23,6 +23,10 @@ pub const GROUNDTRUTH_FILE: &str = "groundtruth_rect.txt";
 
 /// Environment variable that overrides where [`shared_data_dir`] looks for sequences.
 pub const DATA_ENV: &str = "RBTRACK_DATA";
+
+/// The sequences of the shared development data ([`shared_data_dir`]) whose ground truth
+/// is 0-based, as that folder's README states; the others there are 1-based.
+pub const SHARED_ZERO_BASED: [&str; 1] = ["ball1_vot15"];
 
 /// Why a sequence, frame, box or `--init` string could not be read.
 #[derive(Debug)]
@@ -139,68 +143,41 @@ pub enum GtOrigin {
 }
 
 impl GtOrigin {
-    /// The origin for a sequence folder name: [`GtOrigin::ZeroBased`] when the name
-    /// contains `_vot` (e.g. `ball1_vot15`), else [`GtOrigin::OneBased`].
-    pub fn for_sequence(name: &str) -> Self {
-        if name.to_ascii_lowercase().contains("_vot") {
+    /// The origin of the shared development sequence `name` ([`SHARED_ZERO_BASED`]).
+    pub fn of_shared(name: &str) -> Self {
+        if SHARED_ZERO_BASED.contains(&name) {
             Self::ZeroBased
         } else {
             Self::OneBased
         }
     }
 
+    /// `one-based` or `zero-based`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::OneBased => "one-based",
+            Self::ZeroBased => "zero-based",
+        }
+    }
+
+    /// What this origin adds to a 0-based coordinate: 1 or 0 px.
+    pub fn offset(self) -> f64 {
+        match self {
+            Self::OneBased => 1.0,
+            Self::ZeroBased => 0.0,
+        }
+    }
+
     /// Converts a box read from a file with this origin to 0-based.
     pub fn to_zero_based(self, b: BBox) -> BBox {
-        match self {
-            Self::OneBased => b.from_one_based(),
-            Self::ZeroBased => b,
-        }
+        BBox::new(b.x - self.offset(), b.y - self.offset(), b.w, b.h)
     }
 
     /// Converts a 0-based box to this origin, for writing a file in the same convention:
     /// inverse of [`GtOrigin::to_zero_based`].
     pub fn from_zero_based(self, b: BBox) -> BBox {
-        match self {
-            Self::OneBased => b.to_one_based(),
-            Self::ZeroBased => b,
-        }
+        BBox::new(b.x + self.offset(), b.y + self.offset(), b.w, b.h)
     }
-}
-
-/// One decoded frame: RGB888, `width * height * 3` bytes, row-major, stride `width * 3`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Frame {
-    /// 0-based frame index in the sequence.
-    pub index: usize,
-    /// Width, px.
-    pub width: u32,
-    /// Height, px.
-    pub height: u32,
-    /// Pixels, R, G, B per pixel.
-    pub rgb: Vec<u8>,
-}
-
-impl Frame {
-    /// Row stride of [`Frame::rgb`], bytes.
-    pub fn stride(&self) -> usize {
-        self.width as usize * 3
-    }
-
-    /// The frame as RGB565 little-endian, 2 bytes per pixel (stride `width * 2`).
-    pub fn to_rgb565_le(&self) -> Vec<u8> {
-        rgb888_to_rgb565_le(&self.rgb)
-    }
-}
-
-/// RGB888 bytes to RGB565 little-endian (`rrrrrggg gggbbbbb` as a `u16`, low byte first),
-/// by truncation. A trailing partial pixel is ignored.
-pub fn rgb888_to_rgb565_le(rgb: &[u8]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(rgb.len() / 3 * 2);
-    for p in rgb.chunks_exact(3) {
-        let v = ((p[0] as u16 >> 3) << 11) | ((p[1] as u16 >> 2) << 5) | (p[2] as u16 >> 3);
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out
 }
 
 /// An OTB-layout sequence: frame paths and 0-based ground truth; frames decode on demand.
@@ -223,26 +200,20 @@ pub struct Sequence {
 }
 
 impl Sequence {
-    /// Opens `dir`, taking the ground-truth origin from the folder name
-    /// ([`GtOrigin::for_sequence`]).
-    pub fn open(dir: impl AsRef<Path>) -> Result<Self, SequenceError> {
-        let dir = dir.as_ref();
-        let origin = GtOrigin::for_sequence(&folder_name(dir));
-        Self::open_with(dir, origin)
-    }
-
-    /// Opens `dir` with an explicit ground-truth origin. Lists the frames, reads the first
-    /// frame's size and parses the ground truth; decodes no pixels.
-    pub fn open_with(dir: impl AsRef<Path>, origin: GtOrigin) -> Result<Self, SequenceError> {
+    /// Opens `dir` whose ground-truth file counts from `origin`. Lists the frames, reads
+    /// the first frame's size and parses the ground truth; decodes no pixels.
+    pub fn open(dir: impl AsRef<Path>, origin: GtOrigin) -> Result<Self, SequenceError> {
         Self::open_inner(dir.as_ref(), origin, true)
     }
 
     /// As [`Sequence::open`], but a missing ground-truth file is not an error: the
     /// sequence then has no ground truth (`groundtruth` empty). A ground-truth file that
     /// exists but cannot be read or parsed is still an error.
-    pub fn open_optional_groundtruth(dir: impl AsRef<Path>) -> Result<Self, SequenceError> {
-        let dir = dir.as_ref();
-        Self::open_inner(dir, GtOrigin::for_sequence(&folder_name(dir)), false)
+    pub fn open_optional_groundtruth(
+        dir: impl AsRef<Path>,
+        origin: GtOrigin,
+    ) -> Result<Self, SequenceError> {
+        Self::open_inner(dir.as_ref(), origin, false)
     }
 
     /// True when the sequence has ground truth for at least one frame.
@@ -314,11 +285,9 @@ impl Sequence {
                 found,
             });
         }
-        Ok(Frame {
-            index,
-            width: found.0,
-            height: found.1,
-            rgb: rgb.into_raw(),
+        Frame::rgb888(found.0, found.1, rgb.into_raw()).map_err(|e| SequenceError::Image {
+            path: path.clone(),
+            message: e.to_string(),
         })
     }
 
@@ -355,7 +324,8 @@ impl Iterator for Frames<'_> {
 
 impl ExactSizeIterator for Frames<'_> {}
 
-fn folder_name(dir: &Path) -> String {
+/// The last component of `dir` (a sequence's name), or empty.
+pub fn folder_name(dir: &Path) -> String {
     dir.file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default()

@@ -1,12 +1,15 @@
 //! The `rbtrack` binary end to end: `demo`, `track` and `eval` on tiny generated OTB
-//! sequences (synthetic scene frames written as PNG), their JSON and box files, and the
-//! error cases (one line on stderr, non-zero exit, no panic).
+//! sequences (synthetic scene frames written as PNG), a video made from them by ffmpeg and
+//! a raw dump of them; their JSON, box and per-frame files; configuration by `--set` and
+//! `--config`; and the error cases (one line on stderr, non-zero exit, no panic).
 
+use rbtrack_host::config_fields::FIELDS;
+use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant};
 use rbtrack_host::sequence::GROUNDTRUTH_FILE;
-use std::collections::BTreeMap;
+use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 /// Frames of the generated sequences.
 const FRAMES: usize = 6;
@@ -22,18 +25,28 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// Frame width of the generated sequences, px.
+const W: u32 = 96;
+/// Frame height of the generated sequences, px.
+const H: u32 = 72;
+
+/// The frames of a tiny perspective scene.
+fn scene(seed: u64) -> Scene {
+    let mut config = SceneConfig::new(Variant::Perspective, seed);
+    (config.width, config.height, config.frames) = (W, H, 10);
+    Scene::new(config).unwrap()
+}
+
 /// Writes a tiny OTB-layout sequence into `dir`: `FRAMES` PNG frames of a 96x72
 /// perspective scene and a 1-based ground-truth file. Returns the ground-truth lines.
 fn write_sequence(dir: &Path, seed: u64) -> Vec<String> {
-    let mut config = SceneConfig::new(Variant::Perspective, seed);
-    (config.width, config.height, config.frames) = (96, 72, 10);
-    let scene = Scene::new(config).unwrap();
+    let scene = scene(seed);
     std::fs::create_dir_all(dir.join("img")).unwrap();
     let mut lines = Vec::new();
     for i in 0..FRAMES {
         let rgb = scene.render(i).unwrap();
         let path = dir.join("img").join(format!("{:04}.png", i + 1));
-        image::save_buffer(path, &rgb, 96, 72, image::ExtendedColorType::Rgb8).unwrap();
+        image::save_buffer(path, &rgb, W, H, image::ExtendedColorType::Rgb8).unwrap();
         let b = scene.truth(i).unwrap().bbox.to_one_based();
         lines.push(format!("{:.2},{:.2},{:.2},{:.2}", b.x, b.y, b.w, b.h));
     }
@@ -44,6 +57,15 @@ fn write_sequence(dir: &Path, seed: u64) -> Vec<String> {
 fn rbtrack(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rbtrack"))
         .args(args)
+        .output()
+        .expect("run rbtrack")
+}
+
+/// Runs rbtrack in `dir` (for commands that write into the working folder by default).
+fn rbtrack_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rbtrack"))
+        .args(args)
+        .current_dir(dir)
         .output()
         .expect("run rbtrack")
 }
@@ -60,185 +82,11 @@ fn path(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// A parsed JSON value (enough of JSON for the program's output).
-#[derive(Clone, Debug, PartialEq)]
-enum Json {
-    Null,
-    Bool(bool),
-    Num(f64),
-    Str(String),
-    Arr(Vec<Json>),
-    Obj(BTreeMap<String, Json>),
-}
-
-impl Json {
-    fn parse(text: &str) -> Result<Json, String> {
-        let mut p = Parser {
-            s: text.as_bytes(),
-            i: 0,
-        };
-        let v = p.value()?;
-        p.ws();
-        if p.i != p.s.len() {
-            return Err(format!("trailing text at byte {}", p.i));
-        }
-        Ok(v)
-    }
-
-    fn get(&self, key: &str) -> &Json {
-        match self {
-            Json::Obj(m) => m.get(key).unwrap_or_else(|| panic!("no key {key:?}")),
-            other => panic!("{other:?} is not an object"),
-        }
-    }
-
-    fn num(&self) -> f64 {
-        match self {
-            Json::Num(v) => *v,
-            other => panic!("{other:?} is not a number"),
-        }
-    }
-
-    fn arr(&self) -> &[Json] {
-        match self {
-            Json::Arr(v) => v,
-            other => panic!("{other:?} is not an array"),
-        }
-    }
-}
-
-struct Parser<'a> {
-    s: &'a [u8],
-    i: usize,
-}
-
-impl Parser<'_> {
-    fn ws(&mut self) {
-        while self.s.get(self.i).is_some_and(|c| c.is_ascii_whitespace()) {
-            self.i += 1;
-        }
-    }
-
-    fn eat(&mut self, c: u8) -> Result<(), String> {
-        self.ws();
-        if self.s.get(self.i) == Some(&c) {
-            self.i += 1;
-            Ok(())
-        } else {
-            Err(format!("expected {:?} at byte {}", c as char, self.i))
-        }
-    }
-
-    fn lit(&mut self, word: &str, v: Json) -> Result<Json, String> {
-        if self.s[self.i..].starts_with(word.as_bytes()) {
-            self.i += word.len();
-            Ok(v)
-        } else {
-            Err(format!("bad literal at byte {}", self.i))
-        }
-    }
-
-    fn string(&mut self) -> Result<String, String> {
-        self.eat(b'"')?;
-        let mut out = String::new();
-        loop {
-            let c = *self.s.get(self.i).ok_or("unterminated string")?;
-            self.i += 1;
-            match c {
-                b'"' => return Ok(out),
-                b'\\' => {
-                    let e = *self.s.get(self.i).ok_or("bad escape")?;
-                    self.i += 1;
-                    match e {
-                        b'n' => out.push('\n'),
-                        b't' => out.push('\t'),
-                        b'r' => out.push('\r'),
-                        b'u' => {
-                            let hex = std::str::from_utf8(&self.s[self.i..self.i + 4]).unwrap();
-                            out.push(
-                                char::from_u32(u32::from_str_radix(hex, 16).unwrap()).unwrap(),
-                            );
-                            self.i += 4;
-                        }
-                        other => out.push(other as char),
-                    }
-                }
-                c => out.push(c as char),
-            }
-        }
-    }
-
-    fn value(&mut self) -> Result<Json, String> {
-        self.ws();
-        match self.s.get(self.i).copied().ok_or("unexpected end")? {
-            b'n' => self.lit("null", Json::Null),
-            b't' => self.lit("true", Json::Bool(true)),
-            b'f' => self.lit("false", Json::Bool(false)),
-            b'"' => self.string().map(Json::Str),
-            b'[' => {
-                self.i += 1;
-                let mut v = Vec::new();
-                self.ws();
-                if self.s.get(self.i) == Some(&b']') {
-                    self.i += 1;
-                    return Ok(Json::Arr(v));
-                }
-                loop {
-                    v.push(self.value()?);
-                    self.ws();
-                    match self.s.get(self.i) {
-                        Some(b',') => self.i += 1,
-                        Some(b']') => {
-                            self.i += 1;
-                            return Ok(Json::Arr(v));
-                        }
-                        _ => return Err(format!("bad array at byte {}", self.i)),
-                    }
-                }
-            }
-            b'{' => {
-                self.i += 1;
-                let mut m = BTreeMap::new();
-                self.ws();
-                if self.s.get(self.i) == Some(&b'}') {
-                    self.i += 1;
-                    return Ok(Json::Obj(m));
-                }
-                loop {
-                    let k = self.string()?;
-                    self.eat(b':')?;
-                    let v = self.value()?;
-                    if m.insert(k.clone(), v).is_some() {
-                        return Err(format!("duplicate key {k:?}"));
-                    }
-                    self.ws();
-                    match self.s.get(self.i) {
-                        Some(b',') => self.i += 1,
-                        Some(b'}') => {
-                            self.i += 1;
-                            return Ok(Json::Obj(m));
-                        }
-                        _ => return Err(format!("bad object at byte {}", self.i)),
-                    }
-                }
-            }
-            _ => {
-                let start = self.i;
-                while self
-                    .s
-                    .get(self.i)
-                    .is_some_and(|c| matches!(c, b'-' | b'+' | b'.' | b'e' | b'E' | b'0'..=b'9'))
-                {
-                    self.i += 1;
-                }
-                std::str::from_utf8(&self.s[start..self.i])
-                    .unwrap()
-                    .parse()
-                    .map(Json::Num)
-                    .map_err(|_| format!("bad number at byte {start}"))
-            }
-        }
-    }
+fn json(o: &Output) -> Value {
+    assert!(o.status.success(), "{}", stderr(o));
+    let out = stdout(o);
+    assert_eq!(out.trim().lines().count(), 1, "{out}");
+    serde_json::from_str(out.trim()).unwrap_or_else(|e| panic!("{e}: {out}"))
 }
 
 /// A failure: non-zero exit, exactly one line on stderr naming the program, no panic.
@@ -257,7 +105,7 @@ fn assert_one_line_error(o: &Output, what: &str, contains: &str) {
 }
 
 #[test]
-fn help_lists_every_subcommand() {
+fn help_and_version() {
     let o = rbtrack(&["--help"]);
     assert!(o.status.success());
     let out = stdout(&o);
@@ -270,12 +118,62 @@ fn help_lists_every_subcommand() {
         assert!(out.contains(cmd), "{cmd} missing from {out}");
     }
     let o = rbtrack(&[]);
-    assert!(stderr(&o).contains("rbtrack track SEQ_DIR"));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("Usage: rbtrack <COMMAND>"),
+        "{}",
+        stderr(&o)
+    );
     for cmd in ["demo", "track", "eval", "paper"] {
         let o = rbtrack(&[cmd, "--help"]);
         assert!(o.status.success(), "{cmd} --help");
-        assert!(stdout(&o).starts_with(&format!("usage: rbtrack {cmd}")));
+        assert!(
+            stdout(&o).contains(&format!("Usage: rbtrack {cmd}")),
+            "{}",
+            stdout(&o)
+        );
     }
+    for flag in ["--version", "-V"] {
+        let o = rbtrack(&[flag]);
+        assert!(o.status.success());
+        assert_eq!(
+            stdout(&o).trim(),
+            format!("rbtrack {}", env!("CARGO_PKG_VERSION"))
+        );
+    }
+}
+
+/// A reader that stops reading (`rbtrack ... | head -1`) ends the program quietly.
+#[test]
+fn closed_stdout_is_no_panic() {
+    let dir = temp_dir("closed");
+    write_sequence(&dir.join("data/Tiny"), 3);
+    let data = dir.join("data");
+    for args in [
+        &["--help"][..],
+        &[
+            "eval",
+            path(&data),
+            "--particles",
+            "25",
+            "--out",
+            path(&dir.join("plots")),
+        ][..],
+        &["track", path(&data.join("Tiny")), "--json"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_rbtrack"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        let err = stderr(&o);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(o.status.success(), "{args:?}: {:?} {err}", o.status);
+    }
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -358,19 +256,23 @@ fn track_json_boxes_and_overlay() {
         "--overlay",
         path(&overlay),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = stdout(&o);
-    assert_eq!(out.trim().lines().count(), 1, "{out}");
-    let json = Json::parse(out.trim()).unwrap();
-    assert_eq!(json.get("frames").num(), FRAMES as f64);
+    let json = json(&o);
+    assert_eq!(json["frames"], FRAMES);
     for key in ["auc", "prec20", "miou", "success_rate"] {
-        let v = json.get(key).num();
+        let v = json[key].as_f64().unwrap();
         assert!((0.0..=1.0).contains(&v), "{key} = {v}");
     }
-    assert!(json.get("ms_per_frame").num() >= 0.0);
-    assert_eq!(json.get("sequence"), &Json::Str("Tiny".into()));
-    assert_eq!(json.get("tracker"), &Json::Str("rbpf".into()));
-    assert_eq!(json.get("particles").num(), 50.0);
+    assert!(json["ms_per_frame"].as_f64().unwrap() >= 0.0);
+    assert_eq!(json["sequence"], "Tiny");
+    assert_eq!(json["tracker"], "rbpf");
+    assert_eq!(json["particles"], 50);
+    assert_eq!(json["box_origin"], "one-based");
+    // The configuration used, every field, as --set spells it.
+    let config = json["config"].as_object().unwrap();
+    assert_eq!(config.len(), FIELDS.len());
+    assert_eq!(config["variant"], "rbpf");
+    assert_eq!(config["seed"], 1);
+    assert_eq!(config["cue_mix"], "product");
 
     // One box per frame, in the ground truth's (1-based) convention, starting at the
     // initial box.
@@ -387,6 +289,11 @@ fn track_json_boxes_and_overlay() {
     for i in 1..=FRAMES {
         assert!(overlay.join(format!("{i:04}.png")).is_file());
     }
+    // The overlay carries a text panel in its top-left corner.
+    let frame = image::open(overlay.join("0002.png")).unwrap().into_rgb8();
+    let source = image::open(seq.join("img/0002.png")).unwrap().into_rgb8();
+    assert!(frame.get_pixel(1, 1).0.iter().all(|&c| c < 100));
+    assert_ne!(frame.get_pixel(1, 1), source.get_pixel(1, 1));
 
     // The text form: a table with the sequence's row.
     let o = rbtrack(&["track", path(&seq), "--tracker", "pf", "--format", "rgb565"]);
@@ -398,6 +305,225 @@ fn track_json_boxes_and_overlay() {
             .any(|l| l.starts_with("Tiny") && l.contains(" pf ")),
         "{text}"
     );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn per_frame_csv() {
+    let dir = temp_dir("per-frame");
+    let seq = dir.join("Tiny");
+    let truth = write_sequence(&seq, 5);
+    let csv = dir.join("sub/frames.csv");
+    let o = rbtrack(&["track", path(&seq), "--per-frame", path(&csv)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(
+        header,
+        [
+            "frame",
+            "x",
+            "y",
+            "w",
+            "h",
+            "cx",
+            "cy",
+            "hx",
+            "hy",
+            "vx",
+            "vy",
+            "confidence",
+            "status"
+        ]
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), FRAMES);
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), header.len());
+        assert_eq!(row[0], (i + 1).to_string());
+        let confidence: f64 = row[11].parse().unwrap();
+        assert!((0.0..=1.0).contains(&confidence), "{row:?}");
+        assert!(
+            ["tracking", "uncertain", "lost"].contains(&row[12]),
+            "{row:?}"
+        );
+        // Box and ellipse agree: the box is the ellipse's, same centre.
+        let v: Vec<f64> = row[1..9].iter().map(|v| v.parse().unwrap()).collect();
+        assert!((v[0] + (v[2] - 1.0) / 2.0 - v[4]).abs() < 0.02, "{row:?}");
+        assert!((v[1] + (v[3] - 1.0) / 2.0 - v[5]).abs() < 0.02, "{row:?}");
+        assert!((v[2] - 2.0 * v[6]).abs() < 0.02, "{row:?}");
+    }
+    assert_eq!(rows[0][1..5].join(","), truth[0]);
+    assert_eq!(rows[0][12], "tracking");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn set_and_config_file() {
+    let dir = temp_dir("set");
+    let seq = dir.join("Tiny");
+    write_sequence(&seq, 6);
+    let s = path(&seq);
+
+    let o = rbtrack(&["track", s, "--json", "--set", "scale_per_row=0.1"]);
+    let with_slope = json(&o);
+    assert_eq!(with_slope["config"]["scale_per_row"], 0.1);
+    let o = rbtrack(&[
+        "track",
+        s,
+        "--json",
+        "--set",
+        "cue_mix=average:0.5",
+        "--set",
+        "readout=robust_mean:8",
+        "--set",
+        "resampling=residual",
+    ]);
+    let config = &json(&o)["config"];
+    assert_eq!(config["cue_mix"], "average:0.5");
+    assert_eq!(config["readout"], "robust_mean:8.0");
+    assert_eq!(config["resampling"], "residual");
+
+    // TOML with the same names; --set wins over the file; `variant` and `seed` are the
+    // defaults of --tracker and --seed.
+    let toml = dir.join("tracker.toml");
+    std::fs::write(
+        &toml,
+        "colour_sigma = 0.15\ncue_mix = \"average:0.25\"\nseed = 7\nvariant = \"pf\"\n\
+         pixels_per_window = 200\n",
+    )
+    .unwrap();
+    let o = rbtrack(&[
+        "track",
+        s,
+        "--json",
+        "--config",
+        path(&toml),
+        "--set",
+        "colour_sigma=0.3",
+    ]);
+    let doc = json(&o);
+    let config = &doc["config"];
+    assert_eq!(config["colour_sigma"], 0.3);
+    assert_eq!(config["cue_mix"], "average:0.25");
+    assert_eq!(config["pixels_per_window"], 200);
+    assert_eq!(
+        (doc["tracker"].clone(), doc["seed"].clone()),
+        ("pf".into(), 7.into())
+    );
+    assert_eq!(
+        (config["variant"].clone(), config["seed"].clone()),
+        ("pf".into(), 7.into())
+    );
+    let o = rbtrack(&[
+        "track",
+        s,
+        "--json",
+        "--config",
+        path(&toml),
+        "--seed",
+        "2",
+        "--tracker",
+        "rbpf",
+    ]);
+    let doc = json(&o);
+    assert_eq!(
+        (doc["tracker"].clone(), doc["config"]["seed"].clone()),
+        ("rbpf".into(), 2.into())
+    );
+
+    // The printed configuration reproduces the run: as a TOML file it gives the same scores.
+    let printed = &with_slope["config"];
+    let lines: Vec<String> = printed
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect();
+    std::fs::write(&toml, lines.join("\n")).unwrap();
+    let again = json(&rbtrack(&["track", s, "--json", "--config", path(&toml)]));
+    assert_eq!(again["config"], *printed);
+    assert_eq!(again["auc"], with_slope["auc"]);
+
+    // Mistakes name the field, on one line.
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "no_such_field=1"]),
+        "unknown field",
+        "no_such_field",
+    );
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "colour_sigma=abc"]),
+        "bad value",
+        "colour_sigma",
+    );
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "cue_mix=sum"]),
+        "bad enum",
+        "cue_mix",
+    );
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "lost_below=0.9"]),
+        "out of range (Config::validate)",
+        "lost_below",
+    );
+    std::fs::write(&toml, "colour_sigma = 0.2\nno_such_key = 3\n").unwrap();
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--config", path(&toml)]),
+        "unknown field in the file",
+        "no_such_key",
+    );
+    std::fs::write(&toml, "colour_sigma = [0.2]\n").unwrap();
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--config", path(&toml)]),
+        "bad TOML value",
+        "colour_sigma",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The box convention is a flag: a 0-based file with --zero-based tracks as its 1-based
+/// twin does.
+#[test]
+fn box_convention_is_stated() {
+    let dir = temp_dir("convention");
+    let one = dir.join("Tiny");
+    let truth = write_sequence(&one, 8);
+    let zero = dir.join("Tiny0");
+    write_sequence(&zero, 8);
+    let zero_lines: Vec<String> = truth
+        .iter()
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            format!(
+                "{:.2},{:.2},{:.2},{:.2}",
+                v[0] - 1.0,
+                v[1] - 1.0,
+                v[2],
+                v[3]
+            )
+        })
+        .collect();
+    std::fs::write(zero.join(GROUNDTRUTH_FILE), zero_lines.join("\n")).unwrap();
+    let boxes = dir.join("boxes0.txt");
+    let a = json(&rbtrack(&["track", path(&one), "--json"]));
+    let b = json(&rbtrack(&[
+        "track",
+        path(&zero),
+        "--json",
+        "--zero-based",
+        "--boxes",
+        path(&boxes),
+    ]));
+    assert_eq!(a["auc"], b["auc"]);
+    assert_eq!(b["box_origin"], "zero-based");
+    let written = std::fs::read_to_string(&boxes).unwrap();
+    assert_eq!(written.lines().next(), Some(zero_lines[0].as_str()));
+    // Read as 1-based, the same file is one pixel off.
+    let c = json(&rbtrack(&["track", path(&zero), "--json", "--one-based"]));
+    assert_eq!(c["box_origin"], "one-based");
+    let o = rbtrack(&["track", path(&one), "--zero-based", "--one-based"]);
+    assert_eq!(o.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -422,16 +548,167 @@ fn track_without_groundtruth_from_init() {
         "--boxes",
         path(&boxes),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let json = Json::parse(stdout(&o).trim()).unwrap();
-    assert_eq!(json.get("frames").num(), FRAMES as f64);
+    let json = json(&o);
+    assert_eq!(json["frames"], FRAMES);
     for key in ["auc", "prec20", "miou"] {
-        assert_eq!(json.get(key), &Json::Null, "{key}");
+        assert!(json[key].is_null(), "{key}");
     }
-    assert!(json.get("ms_per_frame").num() >= 0.0);
+    assert!(json["ms_per_frame"].as_f64().unwrap() >= 0.0);
     let written = std::fs::read_to_string(&boxes).unwrap();
     assert_eq!(written.lines().count(), FRAMES);
     assert_eq!(written.lines().next(), Some(truth[0].as_str()));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A raw dump replays exactly what the tracker saw: the frames as RGB565 back to back give
+/// the same boxes as the PNG sequence converted to RGB565.
+#[test]
+fn raw_dump() {
+    let dir = temp_dir("raw");
+    let seq = dir.join("Tiny");
+    let truth = write_sequence(&seq, 9);
+    let scene = scene(9);
+    for format in [Format::Rgb565Le, Format::Yuyv, Format::Gray8] {
+        let dump = dir.join(format!("dump.{format}"));
+        let bytes: Vec<u8> = (0..FRAMES)
+            .flat_map(|i| {
+                let rgb = scene.render(i).unwrap();
+                Frame::rgb888(W, H, rgb)
+                    .unwrap()
+                    .convert(format)
+                    .unwrap()
+                    .bytes
+            })
+            .collect();
+        std::fs::write(&dump, bytes).unwrap();
+        let (from_raw, from_png) = (dir.join("raw.txt"), dir.join("png.txt"));
+        let layout = format!("{W}x{H}:{format}");
+        let o = rbtrack(&[
+            "track",
+            path(&dump),
+            "--raw",
+            &layout,
+            "--init",
+            &truth[0],
+            "--groundtruth",
+            path(&seq.join(GROUNDTRUTH_FILE)),
+            "--boxes",
+            path(&from_raw),
+            "--json",
+        ]);
+        let doc = json(&o);
+        assert_eq!(doc["frames"], FRAMES);
+        assert_eq!(doc["format"], format.name());
+        assert_eq!(doc["sequence"], "dump");
+        let o = rbtrack(&[
+            "track",
+            path(&seq),
+            "--format",
+            format.name(),
+            "--boxes",
+            path(&from_png),
+            "--json",
+        ]);
+        assert_eq!(json(&o)["auc"], doc["auc"], "{format}");
+        assert_eq!(
+            std::fs::read_to_string(&from_raw).unwrap(),
+            std::fs::read_to_string(&from_png).unwrap(),
+            "{format}"
+        );
+    }
+    // A size that does not divide the file, and --raw with --format, are refused.
+    let dump = dir.join("dump.rgb565le");
+    assert_one_line_error(
+        &rbtrack(&[
+            "track",
+            path(&dump),
+            "--raw",
+            "95x72:rgb565le",
+            "--init",
+            &truth[0],
+        ]),
+        "bad size",
+        "not whole",
+    );
+    assert_one_line_error(
+        &rbtrack(&[
+            "track",
+            path(&dump),
+            "--raw",
+            "96x72:bgr",
+            "--init",
+            &truth[0],
+        ]),
+        "bad format",
+        "--raw",
+    );
+    let o = rbtrack(&[
+        "track",
+        path(&dump),
+        "--raw",
+        "96x72:rgb565le",
+        "--format",
+        "rgb888",
+        "--init",
+        &truth[0],
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// An mp4 made by ffmpeg from the scene's frames is tracked frame by frame.
+#[test]
+fn mp4_video() {
+    let dir = temp_dir("video");
+    let seq = dir.join("Tiny");
+    let truth = write_sequence(&seq, 10);
+    let clip = dir.join("clip.mp4");
+    let made = Command::new("ffmpeg")
+        .args(["-v", "error", "-nostdin", "-framerate", "10", "-i"])
+        .arg(seq.join("img/%04d.png"))
+        .args(["-pix_fmt", "yuv420p"])
+        .arg(&clip)
+        .status();
+    match made {
+        Ok(status) => assert!(status.success(), "ffmpeg could not make {}", clip.display()),
+        Err(e) => {
+            println!("SKIPPED mp4_video: cannot run ffmpeg ({e}); install ffmpeg to run it");
+            return;
+        }
+    }
+    let csv = dir.join("clip.csv");
+    let o = rbtrack(&[
+        "track",
+        path(&clip),
+        "--init",
+        &truth[0],
+        "--groundtruth",
+        path(&seq.join(GROUNDTRUTH_FILE)),
+        "--per-frame",
+        path(&csv),
+        "--json",
+    ]);
+    let doc = json(&o);
+    assert_eq!(doc["sequence"], "clip");
+    assert_eq!(doc["frames"], FRAMES);
+    assert!(doc["auc"].as_f64().unwrap() > 0.3, "{doc}");
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+    assert_eq!(rows, FRAMES + 1);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Without ffmpeg on PATH a video is refused with a hint, not a panic.
+#[test]
+fn video_without_ffmpeg() {
+    let dir = temp_dir("no-ffmpeg");
+    let clip = dir.join("clip.mp4");
+    std::fs::write(&clip, b"not really a video").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_rbtrack"))
+        .args(["track", path(&clip), "--init", "1,1,8,8"])
+        .env("PATH", &dir)
+        .output()
+        .unwrap();
+    assert_one_line_error(&o, "no ffprobe", "install ffmpeg");
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -473,7 +750,7 @@ fn errors_are_one_line_without_panic() {
     assert_one_line_error(
         &rbtrack(&["track", s, "--particles"]),
         "no value",
-        "needs a value",
+        "a value is required",
     );
     assert_one_line_error(
         &rbtrack(&["track", s, "--seed", "x"]),
@@ -483,7 +760,7 @@ fn errors_are_one_line_without_panic() {
     assert_one_line_error(
         &rbtrack(&["track", s, "--format", "yuv"]),
         "bad --format",
-        "rgb565",
+        "rgb565le",
     );
     assert_one_line_error(
         &rbtrack(&["track", s, "--tracker", "kcf"]),
@@ -499,6 +776,12 @@ fn errors_are_one_line_without_panic() {
         &rbtrack(&["demo", "--scene", "crowd"]),
         "bad --scene",
         "crowd",
+    );
+
+    assert_one_line_error(
+        &rbtrack(&["eval", s, "--seed", "1", "--seeds", "1,2"]),
+        "--seed with --seeds",
+        "cannot be used with",
     );
 
     // Unreadable frame (after the first).
@@ -523,7 +806,10 @@ fn errors_are_one_line_without_panic() {
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         assert!(!err.contains("panicked"), "{err}");
         assert!(err.starts_with("rbtrack"), "{err}");
-        assert!(err.contains("usage: rbtrack"), "{args:?}: {err}");
+        assert!(
+            err.to_lowercase().contains("usage: rbtrack"),
+            "{args:?}: {err}"
+        );
     }
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -566,43 +852,208 @@ fn eval_two_sequences() {
         assert!(out.join(f).is_file(), "{f}");
     }
 
-    let o = rbtrack(&[
-        "eval",
-        path(&data),
-        "--out",
-        path(&out),
-        "--particles",
-        "25",
-        "--tracker",
-        "both",
-        "--json",
-        "--boxes",
-        path(&dir.join("boxes")),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let json = Json::parse(stdout(&o).trim()).unwrap();
-    let seqs = json.get("sequences").arr();
+    // JSON writes no plots unless asked.
+    let o = rbtrack_in(
+        &dir,
+        &[
+            "eval",
+            path(&data),
+            "--particles",
+            "25",
+            "--tracker",
+            "both",
+            "--json",
+            "--boxes",
+            path(&dir.join("boxes")),
+        ],
+    );
+    let json = json(&o);
+    assert!(!dir.join("out").exists(), "plots written with --json");
+    let seqs = json["sequences"].as_array().unwrap();
     assert_eq!(seqs.len(), 4);
-    assert_eq!(seqs[0].get("sequence"), &Json::Str("Alpha".into()));
+    assert_eq!(seqs[0]["sequence"], "Alpha");
     for s in seqs {
-        assert_eq!(s.get("frames").num(), FRAMES as f64);
-        assert!((0.0..=1.0).contains(&s.get("auc").num()));
+        assert_eq!(s["frames"], FRAMES);
+        assert!((0.0..=1.0).contains(&s["auc"].as_f64().unwrap()));
     }
-    let mean = json.get("mean").arr();
+    let mean = json["mean"].as_array().unwrap();
     assert_eq!(mean.len(), 2);
-    assert_eq!(mean[0].get("sequences").num(), 2.0);
-    assert_eq!(mean[0].get("frames").num(), (2 * FRAMES) as f64);
-    for f in ["success_rbpf.png", "precision_pf.png", "success.png"] {
-        assert!(out.join(f).is_file(), "{f}");
-    }
+    assert_eq!(mean[0]["sequences"], 2);
+    assert_eq!(mean[0]["frames"], 2 * FRAMES);
+    assert_eq!(json["seeds"], serde_json::json!([1]));
+    assert_eq!(json["config"]["pf"]["variant"], "pf");
     for f in ["Alpha_rbpf.txt", "Beta_pf.txt"] {
         let text = std::fs::read_to_string(dir.join("boxes").join(f)).unwrap();
         assert_eq!(text.lines().count(), FRAMES, "{f}");
     }
+    let o = rbtrack_in(
+        &dir,
+        &[
+            "eval",
+            path(&data),
+            "--particles",
+            "25",
+            "--json",
+            "--plots",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("out/eval/success.png").is_file());
 
-    // An empty data folder is an error.
+    // An empty data folder is an error, and so is naming a sequence that is not there.
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     assert_one_line_error(&rbtrack(&["eval", path(&empty)]), "empty data", "no usable");
+    std::fs::remove_dir_all(data.join("notes")).unwrap();
+    assert_one_line_error(
+        &rbtrack(&["eval", path(&data), "--zero-based-sequences", "Gamma"]),
+        "unknown 0-based sequence",
+        "Gamma",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `eval --seeds`: each sequence's mean and range over the seeds, the set's mean with its
+/// range over the seeds' set means, and every seed's figures in the JSON.
+#[test]
+fn eval_over_seeds() {
+    let dir = temp_dir("seeds");
+    let data = dir.join("data");
+    write_sequence(&data.join("Alpha"), 11);
+    write_sequence(&data.join("Beta"), 12);
+    let zero = write_sequence(&data.join("Zero"), 13);
+    let zero_lines: Vec<String> = zero
+        .iter()
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            format!(
+                "{:.2},{:.2},{:.2},{:.2}",
+                v[0] - 1.0,
+                v[1] - 1.0,
+                v[2],
+                v[3]
+            )
+        })
+        .collect();
+    std::fs::write(
+        data.join("Zero").join(GROUNDTRUTH_FILE),
+        zero_lines.join("\n"),
+    )
+    .unwrap();
+    let common = [
+        "eval",
+        path(&data),
+        "--particles",
+        "25",
+        "--tracker",
+        "both",
+        "--seeds",
+        "1,2,3",
+        "--zero-based-sequences",
+        "Zero",
+        "--set",
+        "colour_sigma=0.15",
+    ];
+    let mut args = common.to_vec();
+    let boxes = dir.join("boxes");
+    args.extend(["--json", "--boxes", path(&boxes)]);
+    let doc = json(&rbtrack(&args));
+    assert_eq!(doc["seeds"], serde_json::json!([1, 2, 3]));
+    assert_eq!(doc["config"]["rbpf"]["colour_sigma"], 0.15);
+    assert_eq!(doc["zero_based_sequences"], serde_json::json!(["Zero"]));
+    let seqs = doc["sequences"].as_array().unwrap();
+    assert_eq!(seqs.len(), 6);
+    for s in seqs {
+        let per_seed = s["per_seed"].as_array().unwrap();
+        let seeds: Vec<u64> = per_seed
+            .iter()
+            .map(|p| p["seed"].as_u64().unwrap())
+            .collect();
+        assert_eq!(seeds, [1, 2, 3]);
+        let aucs: Vec<f64> = per_seed
+            .iter()
+            .map(|p| p["auc"].as_f64().unwrap())
+            .collect();
+        let mean = aucs.iter().sum::<f64>() / 3.0;
+        assert!((s["auc"].as_f64().unwrap() - mean).abs() < 1e-12, "{s}");
+        assert_eq!(s["auc_min"].as_f64(), aucs.iter().copied().reduce(f64::min));
+        assert_eq!(s["auc_max"].as_f64(), aucs.iter().copied().reduce(f64::max));
+    }
+    for m in doc["mean"].as_array().unwrap() {
+        let tracker = m["tracker"].as_str().unwrap();
+        let per_seed = m["per_seed"].as_array().unwrap();
+        for (k, p) in per_seed.iter().enumerate() {
+            // A seed's set mean is the mean over sequences of that seed's AUC.
+            let of_seed: Vec<f64> = seqs
+                .iter()
+                .filter(|s| s["tracker"] == tracker)
+                .map(|s| s["per_seed"][k]["auc"].as_f64().unwrap())
+                .collect();
+            let set_mean = of_seed.iter().sum::<f64>() / of_seed.len() as f64;
+            assert!((p["auc"].as_f64().unwrap() - set_mean).abs() < 1e-12, "{m}");
+        }
+        let (lo, auc, hi) = (
+            m["auc_min"].as_f64().unwrap(),
+            m["auc"].as_f64().unwrap(),
+            m["auc_max"].as_f64().unwrap(),
+        );
+        assert!(lo <= auc && auc <= hi, "{m}");
+    }
+    // The 0-based sequence is read as stated: it scores as its 1-based twin would.
+    let twin = json(&rbtrack(&[
+        "track",
+        path(&data.join("Zero")),
+        "--zero-based",
+        "--particles",
+        "25",
+        "--set",
+        "colour_sigma=0.15",
+        "--json",
+    ]));
+    let zero_rbpf = seqs
+        .iter()
+        .find(|s| s["sequence"] == "Zero" && s["tracker"] == "rbpf")
+        .unwrap();
+    assert_eq!(zero_rbpf["per_seed"][0]["auc"], twin["auc"]);
+    for f in ["Alpha_rbpf_seed1.txt", "Zero_pf_seed3.txt"] {
+        let text = std::fs::read_to_string(dir.join("boxes").join(f)).unwrap();
+        assert_eq!(text.lines().count(), FRAMES, "{f}");
+    }
+    // Box files keep each sequence's convention.
+    let first = std::fs::read_to_string(dir.join("boxes/Zero_rbpf_seed1.txt")).unwrap();
+    assert_eq!(first.lines().next(), Some(zero_lines[0].as_str()));
+
+    // The table: means over seeds with the AUC's range, and the set's mean per seed.
+    let mut args = common.to_vec();
+    let plots = dir.join("plots");
+    args.extend(["--out", path(&plots)]);
+    let o = rbtrack(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let header = text.lines().find(|l| l.starts_with("sequence")).unwrap();
+    assert!(
+        header.contains("AUC min") && header.contains("AUC max"),
+        "{text}"
+    );
+    let mean_rows = text.lines().filter(|l| {
+        let cells: Vec<&str> = l.split_whitespace().collect();
+        cells.len() > 2 && cells[0] == "mean" && ["rbpf", "pf"].contains(&cells[1])
+    });
+    assert_eq!(mean_rows.count(), 2, "{text}");
+    assert!(text.contains("config rbpf: colour_sigma=0.15"), "{text}");
+    let per_seed = text
+        .lines()
+        .find(|l| l.starts_with("mean AUC per seed"))
+        .unwrap();
+    assert!(
+        per_seed.contains("rbpf: 1 ") && per_seed.contains("pf: 1 "),
+        "{per_seed}"
+    );
+    assert!(plots.join("success_rbpf.png").is_file());
+    assert_one_line_error(
+        &rbtrack(&["eval", path(&data), "--seeds", "1,2,1"]),
+        "repeated seed",
+        "seed 1",
+    );
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -1,8 +1,7 @@
-//! Drawing, image writing, plots and the progress line.
+//! Drawing, text on frames, image writing and plots.
 
 use rbtrack_host::draw::*;
 use rbtrack_host::metrics::{precision_curve, success_curve, BBox};
-use rbtrack_host::progress::Progress;
 use std::path::PathBuf;
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -134,15 +133,30 @@ fn success_and_precision_plots() {
 }
 
 #[test]
-fn progress_line() {
-    let mut p = Progress::hidden("frames", 4);
-    p.inc(1);
-    p.inc(1);
-    let line = p.line();
-    assert!(line.starts_with("frames ["), "{line}");
-    assert!(line.contains("] 2/4 "), "{line}");
-    assert_eq!(line.matches('#').count(), 15);
-    assert_eq!(p.done(), 2);
-    p.finish();
-    assert!(Progress::hidden("none", 0).line().contains("0/0"));
+fn text_lines_on_a_frame() {
+    let (w, h) = (160, 120);
+    let mut rgb = vec![128u8; w * h * 3];
+    let lines = [
+        ("frame 12".to_string(), [255, 255, 255]),
+        ("rbpf tracking 0.91".to_string(), [255, 200, 0]),
+    ];
+    draw_text_lines(&mut rgb, w as u32, h as u32, &lines).unwrap();
+    let px = |x: usize, y: usize| &rgb[(y * w + x) * 3..(y * w + x) * 3 + 3];
+    // The panel darkens the corner; text pixels in both colours appear on it.
+    assert!(px(1, 1).iter().all(|&c| c < 100), "{:?}", px(1, 1));
+    let panel = (0..30).flat_map(|y| (0..w).map(move |x| (x, y)));
+    let yellow = panel
+        .clone()
+        .filter(|&(x, y)| px(x, y)[0] > 150 && px(x, y)[2] < 100)
+        .count();
+    let white = panel
+        .filter(|&(x, y)| px(x, y).iter().all(|&c| c > 150))
+        .count();
+    assert!(yellow > 10 && white > 10, "yellow {yellow}, white {white}");
+    // The rest of the frame is untouched.
+    assert_eq!(px(w - 1, h - 1), [128, 128, 128]);
+    assert!(matches!(
+        draw_text_lines(&mut rgb[1..], w as u32, h as u32, &lines),
+        Err(DrawError::Size { .. })
+    ));
 }

@@ -16,6 +16,7 @@
 use rbtrack::fixed::Q16;
 use rbtrack::tracker::{Estimate, Status, Variant};
 use rbtrack_host::faults::{Fault, FaultyScene};
+use rbtrack_host::pixels::Frame;
 use rbtrack_host::run::{start, Options};
 use rbtrack_host::scene::{Scene, SceneConfig, Truth, Variant as SceneVariant};
 
@@ -76,8 +77,8 @@ fn run(variant: Variant, scene: &FaultyScene, seed: u64) -> Outcome {
     let mut options = Options::new(variant);
     options.config.seed = seed;
     base.configure(&mut options.config);
-    let first = scene.render(0).expect("frame");
-    let mut runner = start(&options, &first, w, h, &base.boxes()[0]).expect("tracker starts");
+    let frame = |i| Frame::rgb888(w as u32, h as u32, scene.render(i).expect("frame")).unwrap();
+    let mut runner = start(&options, &frame(0), &base.boxes()[0]).expect("tracker starts");
     // The last frame where the target could not be plainly seen.
     let last_hidden = (0..scene.len())
         .rev()
@@ -91,8 +92,7 @@ fn run(variant: Variant, scene: &FaultyScene, seed: u64) -> Outcome {
         reacquired_after: None,
     };
     for i in 1..scene.len() {
-        let frame = scene.render(i).expect("frame");
-        let e = runner.step(&frame, w, h).expect("step").estimate;
+        let e = runner.step(&frame(i)).expect("step").estimate;
         assert_sane(&e, w, h, i);
         if scene.target_hidden(i) && e.status != Status::Lost {
             outcome.not_lost.push((i, e.status));

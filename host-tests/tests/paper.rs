@@ -73,17 +73,22 @@ fn json_has_the_documented_shape() {
     };
     let study = paper::study(&params, 2, 25);
     let json = paper::json(&study, &params);
-    for key in [
-        "\"rbpf\": {\"loc\": ",
-        "\"pf\": {\"loc\": ",
-        "\"vel\": ",
-        "\"sweep\": [{\"s\": 1, \"loc\": ",
-        "\"v\": ",
-        "\"particles\": [{\"n\": 25, \"rbpf_loc\": ",
-        "\"pf_loc\": ",
-    ] {
-        assert!(json.contains(key), "{key} missing from {json}");
+    for tracker in ["rbpf", "pf"] {
+        for key in ["loc", "loc_std", "vel", "vel_std", "v", "v_std"] {
+            assert!(json[tracker][key].is_number(), "{tracker}.{key} in {json}");
+        }
+        assert!(json[tracker].get("loc_runs").is_none(), "{json}");
     }
+    assert_eq!(json["sweep"][0]["s"], 1);
+    for key in ["loc", "v", "vel"] {
+        assert!(json["sweep"][0][key].is_number(), "sweep.{key} in {json}");
+    }
+    assert_eq!(json["particles"][0]["n"], 25);
+    for key in ["rbpf_loc", "pf_loc", "rbpf_vel", "pf_vel"] {
+        assert!(json["particles"][0][key].is_number(), "{key} in {json}");
+    }
+    assert_eq!(json["params"]["runs"], 2);
+    assert_eq!(json["params"]["steps"], 10);
     assert_eq!(study.sweep.len(), 15);
     assert_eq!(study.counts.len(), paper::PARTICLE_COUNTS.len());
 }

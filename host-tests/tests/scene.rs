@@ -1,8 +1,8 @@
 //! Synthetic scenes: determinism, appearance, and the ground truth of each variant.
 
 use rbtrack_host::metrics::BBox;
+use rbtrack_host::pixels::{rgb565, Format, Frame};
 use rbtrack_host::scene::*;
-use rbtrack_host::sequence::rgb888_to_rgb565_le;
 
 fn scene(variant: Variant, seed: u64) -> Scene {
     Scene::new(SceneConfig::new(variant, seed)).unwrap()
@@ -51,9 +51,15 @@ fn frame_sizes_and_rgb565() {
     assert_eq!((s.width(), s.height(), s.len()), (320, 240, 100));
     let rgb = s.render(5).unwrap();
     assert_eq!(rgb.len(), 320 * 240 * 3);
-    let rgb565 = s.render_rgb565_le(5).unwrap();
-    assert_eq!(rgb565.len(), 320 * 240 * 2);
-    assert_eq!(rgb565, rgb888_to_rgb565_le(&rgb));
+    let packed = Frame::rgb888(320, 240, rgb.clone())
+        .unwrap()
+        .convert(Format::Rgb565Le)
+        .unwrap();
+    assert_eq!(packed.bytes.len(), 320 * 240 * 2);
+    assert_eq!(
+        packed.bytes[..2],
+        rgb565(rgb[0], rgb[1], rgb[2]).to_le_bytes()
+    );
     assert_eq!(s.frames().count(), 100);
 
     let mut small = SceneConfig::new(Variant::Occlusion, 3);

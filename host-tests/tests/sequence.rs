@@ -2,6 +2,7 @@
 //! the shared real sequences.
 
 use rbtrack_host::metrics::BBox;
+use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::sequence::*;
 use std::path::{Path, PathBuf};
 
@@ -44,7 +45,7 @@ fn png_sequence_in_numeric_order() {
     )
     .unwrap();
 
-    let seq = Sequence::open(&dir).unwrap();
+    let seq = Sequence::open(&dir, GtOrigin::OneBased).unwrap();
     assert_eq!(seq.len(), 3);
     assert_eq!((seq.width, seq.height), (W, H));
     assert_eq!(seq.origin, GtOrigin::OneBased);
@@ -66,11 +67,11 @@ fn png_sequence_in_numeric_order() {
 
     let frames: Vec<Frame> = seq.frames().map(|f| f.unwrap()).collect();
     assert_eq!(frames.len(), 3);
-    for (k, f) in frames.iter().enumerate() {
-        assert_eq!(f.index, k);
-        assert_eq!(f.rgb, frame_pixels(k as u8));
-        assert_eq!(f.stride(), (W * 3) as usize);
-        assert_eq!(f.to_rgb565_le().len(), (W * H * 2) as usize);
+    for (k, f) in frames.into_iter().enumerate() {
+        assert_eq!((f.format, f.width, f.height), (Format::Rgb888, W, H));
+        assert_eq!(f.bytes, frame_pixels(k as u8));
+        let rgb565 = f.convert(Format::Rgb565Le).unwrap();
+        assert_eq!(rgb565.bytes.len(), (W * H * 2) as usize);
     }
     assert!(matches!(
         seq.frame(3),
@@ -91,12 +92,12 @@ fn jpeg_sequence_decodes_close_to_source() {
             .unwrap();
     }
     std::fs::write(dir.join(GROUNDTRUTH_FILE), "1,1,5,5\n1,1,5,5\n").unwrap();
-    let seq = Sequence::open(&dir).unwrap();
+    let seq = Sequence::open(&dir, GtOrigin::OneBased).unwrap();
     assert_eq!(seq.len(), 2);
     for f in seq.frames() {
         let f = f.unwrap();
-        assert_eq!(f.rgb.len(), 16 * 16 * 3);
-        for (a, b) in f.rgb.iter().zip(&rgb) {
+        assert_eq!(f.bytes.len(), 16 * 16 * 3);
+        for (a, b) in f.bytes.iter().zip(&rgb) {
             assert!((*a as i32 - *b as i32).abs() <= 6, "{a} vs {b}");
         }
     }
@@ -104,48 +105,30 @@ fn jpeg_sequence_decodes_close_to_source() {
 }
 
 #[test]
-fn rgb565_little_endian() {
-    let rgb = [
-        255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255, 0, 0, 0, 0x84, 0x82, 0x08, 9,
-    ];
-    assert_eq!(
-        rgb888_to_rgb565_le(&rgb),
-        [
-            0x00, 0xF8, // red 0xF800
-            0xE0, 0x07, // green 0x07E0
-            0x1F, 0x00, // blue 0x001F
-            0xFF, 0xFF, // white
-            0x00, 0x00, // black
-            0x01, 0x84, // 0x84>>3=16, 0x82>>2=32, 0x08>>3=1: 0x8401
-        ]
-    );
-}
-
-#[test]
 fn errors_are_reported_not_panicked() {
     // Missing folder, and folder without img/.
     let missing = std::env::temp_dir().join("rbtrack-no-such-sequence-folder");
-    let e = Sequence::open(&missing).unwrap_err();
+    let e = Sequence::open(&missing, GtOrigin::OneBased).unwrap_err();
     assert!(matches!(e, SequenceError::MissingFolder(_)));
     assert!(e.to_string().contains("not found"), "{e}");
     let dir = temp_dir("noimg");
     std::fs::remove_dir(dir.join("img")).unwrap();
     assert!(matches!(
-        Sequence::open(&dir),
+        Sequence::open(&dir, GtOrigin::OneBased),
         Err(SequenceError::MissingFolder(p)) if p.ends_with("img")
     ));
     let _ = std::fs::remove_dir_all(dir);
 
     // Empty img/.
     let dir = temp_dir("empty");
-    let e = Sequence::open(&dir).unwrap_err();
+    let e = Sequence::open(&dir, GtOrigin::OneBased).unwrap_err();
     assert!(matches!(e, SequenceError::Empty(_)), "{e}");
     let _ = std::fs::remove_dir_all(dir);
 
     // Missing ground truth.
     let dir = temp_dir("nogt");
     write_png(&dir.join("img/0001.png"), &frame_pixels(0), W, H);
-    let e = Sequence::open(&dir).unwrap_err();
+    let e = Sequence::open(&dir, GtOrigin::OneBased).unwrap_err();
     assert!(matches!(e, SequenceError::Io { .. }), "{e}");
     assert!(e.to_string().contains(GROUNDTRUTH_FILE), "{e}");
 
@@ -157,7 +140,7 @@ fn errors_are_reported_not_panicked() {
         ("1,2,inf,4\n", 1),
     ] {
         std::fs::write(dir.join(GROUNDTRUTH_FILE), text).unwrap();
-        match Sequence::open(&dir) {
+        match Sequence::open(&dir, GtOrigin::OneBased) {
             Err(e @ SequenceError::GroundTruth { .. }) => {
                 let SequenceError::GroundTruth { line: l, .. } = e else {
                     unreachable!()
@@ -173,7 +156,7 @@ fn errors_are_reported_not_panicked() {
     std::fs::write(dir.join(GROUNDTRUTH_FILE), "1,1,2,2\n1,1,2,2\n1,1,2,2\n").unwrap();
     std::fs::write(dir.join("img/0002.jpg"), b"not a jpeg at all").unwrap();
     write_png(&dir.join("img/0003.png"), &[0; 5 * 5 * 3], 5, 5);
-    let seq = Sequence::open(&dir).unwrap();
+    let seq = Sequence::open(&dir, GtOrigin::OneBased).unwrap();
     assert_eq!(seq.len(), 3);
     let results: Vec<_> = seq.frames().collect();
     assert!(results[0].is_ok());
@@ -194,16 +177,16 @@ fn errors_are_reported_not_panicked() {
     );
     std::fs::write(dir.join("img/0001.png"), b"garbage").unwrap();
     assert!(matches!(
-        Sequence::open(&dir),
+        Sequence::open(&dir, GtOrigin::OneBased),
         Err(SequenceError::Image { .. })
     ));
     let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
-fn origin_per_sequence() {
-    assert_eq!(GtOrigin::for_sequence("ball1_vot15"), GtOrigin::ZeroBased);
-    assert_eq!(GtOrigin::for_sequence("Crossing"), GtOrigin::OneBased);
+fn origin_is_stated() {
+    assert_eq!(GtOrigin::of_shared("ball1_vot15"), GtOrigin::ZeroBased);
+    assert_eq!(GtOrigin::of_shared("Crossing"), GtOrigin::OneBased);
     assert_eq!(GtOrigin::default(), GtOrigin::OneBased);
     let b = BBox::new(5.0, 6.0, 7.0, 8.0);
     assert_eq!(GtOrigin::ZeroBased.to_zero_based(b), b);
@@ -215,7 +198,7 @@ fn origin_per_sequence() {
     let dir = temp_dir("origin");
     write_png(&dir.join("img/0001.png"), &frame_pixels(0), W, H);
     std::fs::write(dir.join(GROUNDTRUTH_FILE), "5,6,7,8\n").unwrap();
-    let seq = Sequence::open_with(&dir, GtOrigin::ZeroBased).unwrap();
+    let seq = Sequence::open(&dir, GtOrigin::ZeroBased).unwrap();
     assert_eq!(seq.groundtruth, vec![b]);
     let gt = read_groundtruth(dir.join(GROUNDTRUTH_FILE), GtOrigin::OneBased).unwrap();
     assert_eq!(gt, vec![BBox::new(4.0, 5.0, 7.0, 8.0)]);
@@ -280,13 +263,13 @@ fn shared_real_sequences() {
             println!("SKIPPED {name}: not in {}", root.display());
             continue;
         }
-        let seq = Sequence::open(&dir).unwrap();
+        let seq = Sequence::open(&dir, GtOrigin::of_shared(name)).unwrap();
         assert_eq!(seq.len(), frames, "{name}");
         assert_eq!(seq.groundtruth.len(), frames, "{name}");
         assert_eq!((seq.width, seq.height), size, "{name}");
         assert!(seq.groundtruth.iter().all(|b| b.is_valid()), "{name}");
         let f = seq.frame(0).unwrap();
-        assert_eq!(f.rgb.len(), (size.0 * size.1 * 3) as usize);
+        assert_eq!(f.bytes.len(), (size.0 * size.1 * 3) as usize);
         let first = seq.init_box().unwrap();
         assert!(first.x >= 0.0 && first.y >= 0.0, "{name}: {first:?}");
         assert!(first.x + first.w <= size.0 as f64 + 1.0, "{name}");
@@ -297,18 +280,18 @@ fn shared_real_sequences() {
 fn optional_groundtruth_and_origin_round_trip() {
     let dir = temp_dir("optgt");
     write_png(&dir.join("img/0001.png"), &frame_pixels(0), W, H);
-    let seq = Sequence::open_optional_groundtruth(&dir).unwrap();
+    let seq = Sequence::open_optional_groundtruth(&dir, GtOrigin::OneBased).unwrap();
     assert!(!seq.has_groundtruth());
     assert_eq!(seq.init_box(), None);
     assert_eq!(seq.len(), 1);
     // A ground-truth file that exists must still parse.
     std::fs::write(dir.join(GROUNDTRUTH_FILE), "1,2,3\n").unwrap();
     assert!(matches!(
-        Sequence::open_optional_groundtruth(&dir),
+        Sequence::open_optional_groundtruth(&dir, GtOrigin::OneBased),
         Err(SequenceError::GroundTruth { line: 1, .. })
     ));
     std::fs::write(dir.join(GROUNDTRUTH_FILE), "2,3,4,5\n").unwrap();
-    let seq = Sequence::open_optional_groundtruth(&dir).unwrap();
+    let seq = Sequence::open_optional_groundtruth(&dir, GtOrigin::OneBased).unwrap();
     assert!(seq.has_groundtruth());
     assert_eq!(seq.init_box(), Some(BBox::new(1.0, 2.0, 4.0, 5.0)));
     let b = BBox::new(1.5, 2.0, 3.0, 4.0);

@@ -34,6 +34,7 @@ use rbtrack::image::{ImageView, Rgb565Le, Rgb8x8x8};
 use rbtrack::kalman::{BlockNoise, SharedCovariance, Sym2, Sym4};
 use rbtrack::tracker::{Config, Estimate, Status, Tracker, Variant};
 use rbtrack::window::Ellipse;
+use rbtrack_host::pixels::rgb565;
 use std::time::Instant;
 
 const W: usize = 32;
@@ -77,11 +78,6 @@ struct Stream {
     hx: f64,
     hy: f64,
     frame: u64,
-}
-
-fn rgb565(c: [u8; 3]) -> [u8; 2] {
-    let v = ((c[0] as u16 >> 3) << 11) | ((c[1] as u16 >> 2) << 5) | (c[2] as u16 >> 3);
-    v.to_le_bytes()
 }
 
 impl Stream {
@@ -139,7 +135,7 @@ impl Stream {
                 p if (NOISE..BACK).contains(&p) => [r as u8, (r >> 8) as u8, (r >> 16) as u8],
                 _ => c.map(|v| (v as i32 + (r % 13) as i32 - 6).clamp(0, 255) as u8),
             };
-            px.copy_from_slice(&rgb565(c));
+            px.copy_from_slice(&rgb565(c[0], c[1], c[2]).to_le_bytes());
         }
         self.advance();
     }

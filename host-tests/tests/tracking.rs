@@ -6,7 +6,7 @@ use rbtrack_host::metrics::Evaluation;
 use rbtrack_host::recovery::{recovery, Recovery};
 use rbtrack_host::run::{start, track, Options};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant as SceneVariant};
-use rbtrack_host::sequence::{shared_data_dir, Sequence};
+use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence};
 
 /// The defaults with the scene's settings ([`Scene::configure`]: ground-plane slope,
 /// motion-adaptive noise).
@@ -19,15 +19,10 @@ fn options(variant: Variant, seed: u64, scene: &Scene) -> Options {
 
 fn run_scene(kind: SceneVariant, variant: Variant, seed: u64) -> (Scene, Evaluation) {
     let scene = Scene::new(SceneConfig::new(kind, seed)).expect("valid scene");
-    let frames: Vec<Vec<u8>> = scene.frames().collect();
-    let (w, h) = (scene.width() as usize, scene.height() as usize);
+    let frames: Vec<_> = scene.frames().collect();
     let truth = scene.boxes();
-    let (boxes, _) = track(
-        &options(variant, seed, &scene),
-        frames.iter().map(|f| (f.as_slice(), w, h)),
-        &truth[0],
-    )
-    .expect("tracker starts");
+    let (boxes, _) =
+        track(&options(variant, seed, &scene), &frames, &truth[0]).expect("tracker starts");
     let eval = Evaluation::new(&truth, &boxes);
     (scene, eval)
 }
@@ -58,20 +53,13 @@ fn rbpf_follows_scale_on_the_perspective_scene() {
 fn occlusion_is_reported_as_lost() {
     for variant in [Variant::Rbpf, Variant::ColourPf] {
         let scene = Scene::new(SceneConfig::new(SceneVariant::Occlusion, 1)).expect("scene");
-        let (w, h) = (scene.width() as usize, scene.height() as usize);
-        let first = scene.render(0).expect("frame");
-        let mut runner = start(
-            &options(variant, 1, &scene),
-            &first,
-            w,
-            h,
-            &scene.boxes()[0],
-        )
-        .expect("tracker starts");
+        let mut frames = scene.frames();
+        let first = frames.next().expect("frame");
+        let mut runner =
+            start(&options(variant, 1, &scene), &first, &scene.boxes()[0]).expect("tracker starts");
         let (mut hidden, mut lost_while_hidden, mut lost_while_visible) = (0, 0, 0);
-        for i in 1..scene.len() {
-            let frame = scene.render(i).expect("frame");
-            let step = runner.step(&frame, w, h).expect("step");
+        for (i, frame) in (1..).zip(frames) {
+            let step = runner.step(&frame).expect("step");
             let truth = scene.truth(i).expect("truth");
             let lost = step.estimate.status == Status::Lost;
             if truth.visible_fraction == 0.0 {
@@ -158,17 +146,12 @@ fn rbpf_on_the_real_sequences() {
     ];
     let mut mean_auc = 0.0;
     for name in names {
-        let seq = Sequence::open(data.join(name)).expect("sequence opens");
+        let seq =
+            Sequence::open(data.join(name), GtOrigin::of_shared(name)).expect("sequence opens");
         let frames: Vec<_> = seq.frames().map(|f| f.expect("frame decodes")).collect();
         let init = seq.init_box().expect("ground truth");
-        let (boxes, _) = track(
-            &Options::new(Variant::Rbpf),
-            frames
-                .iter()
-                .map(|f| (f.rgb.as_slice(), f.width as usize, f.height as usize)),
-            &init,
-        )
-        .expect("tracker starts");
+        let (boxes, _) =
+            track(&Options::new(Variant::Rbpf), &frames, &init).expect("tracker starts");
         let eval = Evaluation::new(&seq.groundtruth, &boxes);
         println!(
             "{name:16} AUC {:.3} prec@20 {:.3}",

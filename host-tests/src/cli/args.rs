@@ -1,0 +1,335 @@
+//! The command line of `rbtrack` (clap, derive), and how its mistakes are reported:
+//! a bad value on one line, an unknown option or a missing argument with the usage.
+
+use super::input::RawLayout;
+use super::TrackerKind;
+use crate::config_fields::Setting;
+use crate::metrics::BBox;
+use crate::pixels::Format;
+use crate::run::PARTICLE_COUNTS;
+use crate::scene;
+use crate::sequence::{self, GtOrigin};
+use clap::error::ErrorKind;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Examples shown under `rbtrack --help`.
+const EXAMPLES: &str = "Examples:
+  rbtrack demo
+  rbtrack track ../shared/data/Crossing --json
+  rbtrack track clip.mp4 --init 120,80,30,60 --per-frame out/clip.csv --overlay out/clip
+  rbtrack track dump.bin --raw 320x240:rgb565le --init 120,80,30,60
+  rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --set colour_sigma=0.15
+  rbtrack paper --runs 10";
+
+/// `rbtrack`: the host tool of the rbtrack tracker core.
+#[derive(Debug, Parser)]
+#[command(
+    name = "rbtrack",
+    version,
+    about = "Runs the rbtrack tracker core on synthetic scenes, image sequences, videos and \
+             raw camera dumps, and scores it",
+    after_help = EXAMPLES
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Track a built-in synthetic scene with both trackers: metrics table, image strip,
+    /// animated GIF, success and precision plots
+    #[command(allow_negative_numbers = true)]
+    Demo(DemoArgs),
+    /// Track one sequence: an image folder in OTB layout, a video file (read by ffmpeg)
+    /// or a raw frame dump (--raw)
+    #[command(allow_negative_numbers = true)]
+    Track(TrackArgs),
+    /// Track every sequence folder of DATA_DIR, over one or more seeds: one row per
+    /// sequence and tracker, the mean over sequences, success and precision plots
+    #[command(allow_negative_numbers = true)]
+    Eval(EvalArgs),
+    /// The RBPF paper's simulation study (section 3.1): RBPF against PF, the dependency
+    /// sweep S = 1..15 and the particle-count comparison
+    #[command(allow_negative_numbers = true)]
+    Paper(PaperArgs),
+}
+
+/// Options of `rbtrack demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Output folder (strip.png, demo.gif, success.png, precision.png)
+    #[arg(long, value_name = "DIR", default_value = "out/demo")]
+    pub out: PathBuf,
+    /// Scene: perspective, distractor, occlusion, brightness, fast or leave
+    #[arg(long, value_name = "NAME", default_value = "perspective", value_parser = scene_named)]
+    pub scene: scene::Variant,
+    /// Scene length, 10..=1000 frames
+    #[arg(long, value_name = "N", default_value = "100", value_parser = whole_in(10, 1000))]
+    pub frames: usize,
+    /// Skip the animated GIF
+    #[arg(long)]
+    pub no_gif: bool,
+}
+
+/// Tracker configuration and particle count, shared by `track` and `eval`.
+#[derive(Debug, Args)]
+pub struct ConfigArgs {
+    /// Particles per tracker: 25, 50, 100, 200, 400 or 800
+    #[arg(long, value_name = "N", default_value = "100", value_parser = particle_count)]
+    pub particles: usize,
+    /// Set a field of the tracker's configuration (repeatable), e.g. colour_sigma=0.15,
+    /// cue_mix=average:0.5, readout=robust_mean:8, resampling=systematic; `variant` and
+    /// `seed` give the defaults of --tracker and --seed
+    #[arg(long = "set", value_name = "FIELD=VALUE")]
+    pub set: Vec<Setting>,
+    /// TOML file of configuration fields (colour_sigma = 0.15, cue_mix = "product");
+    /// --set wins over it
+    #[arg(long = "config", value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+/// Which way box files count pixels.
+#[derive(Clone, Copy, Debug, Args)]
+#[group(multiple = false)]
+pub struct Convention {
+    /// Boxes (ground truth, --init, --boxes, --per-frame) count pixels from 0
+    #[arg(long)]
+    pub zero_based: bool,
+    /// Boxes count pixels from 1, as OTB, UAV123, LaSOT and MOT files do (the default)
+    #[arg(long)]
+    pub one_based: bool,
+}
+
+impl Convention {
+    /// The origin the flags state: 1-based unless `--zero-based`.
+    pub fn origin(self) -> GtOrigin {
+        if self.zero_based {
+            GtOrigin::ZeroBased
+        } else {
+            GtOrigin::OneBased
+        }
+    }
+}
+
+/// Options of `rbtrack track`.
+#[derive(Debug, Args)]
+pub struct TrackArgs {
+    /// A sequence folder (img/*.jpg|png, groundtruth_rect.txt), a video file ffmpeg reads,
+    /// or a raw frame dump (with --raw)
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+    /// Tracker: rbpf (Rao-Blackwellised PF) or pf (colour PF) [default: rbpf, or the
+    /// configuration's variant]
+    #[arg(long, value_enum, value_name = "T")]
+    pub tracker: Option<TrackerKind>,
+    /// Seed of the tracker's random draws [default: 1, or the configuration's seed]
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+    /// Configuration and particles.
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Pixel format decoded frames are converted to before tracking, as a camera would
+    /// deliver them
+    #[arg(long, value_enum, value_name = "F", default_value = "rgb888")]
+    pub format: Format,
+    /// INPUT is a raw dump: frames of WIDTHxHEIGHT px back to back in FORMAT (gray8,
+    /// rgb565le, rgb565be, rgb888, yuyv), handed to the tracker as they are
+    #[arg(long, value_name = "WxH:FORMAT", conflicts_with = "format")]
+    pub raw: Option<RawLayout>,
+    /// Initial box instead of the first ground-truth line (in the box convention)
+    #[arg(long, value_name = "x,y,w,h", value_parser = box_arg, allow_hyphen_values = true)]
+    pub init: Option<BBox>,
+    /// Ground-truth file (one x,y,w,h line per frame) [default: INPUT/groundtruth_rect.txt
+    /// for a folder]
+    #[arg(long, value_name = "FILE")]
+    pub groundtruth: Option<PathBuf>,
+    /// Box convention.
+    #[command(flatten)]
+    pub convention: Convention,
+    /// Write the estimated box per frame, one x,y,w,h line each (the first: the initial
+    /// box), in the box convention
+    #[arg(long, value_name = "FILE")]
+    pub boxes: Option<PathBuf>,
+    /// Write a CSV row per frame: frame, box, ellipse, velocity, confidence, status
+    #[arg(long = "per-frame", value_name = "FILE")]
+    pub per_frame: Option<PathBuf>,
+    /// Write every frame as DIR/0001.png, ... with the estimate, its status and
+    /// confidence, and the ground truth drawn
+    #[arg(long, value_name = "DIR")]
+    pub overlay: Option<PathBuf>,
+    /// Print one JSON object (scores, settings, the configuration used)
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Trackers `eval` runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TrackerChoice {
+    /// The Rao-Blackwellised PF.
+    Rbpf,
+    /// The colour PF.
+    Pf,
+    /// Both, over the same decoded frames.
+    Both,
+}
+
+impl TrackerChoice {
+    /// The trackers chosen.
+    pub fn trackers(self) -> Vec<TrackerKind> {
+        match self {
+            Self::Rbpf => vec![TrackerKind::Rbpf],
+            Self::Pf => vec![TrackerKind::Pf],
+            Self::Both => TrackerKind::ALL.to_vec(),
+        }
+    }
+}
+
+/// Options of `rbtrack eval`.
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// Folder of sequence folders (OTB layout each)
+    #[arg(value_name = "DATA_DIR")]
+    pub data: PathBuf,
+    /// Trackers: rbpf, pf or both [default: rbpf, or the configuration's variant]
+    #[arg(long, value_enum, value_name = "T")]
+    pub tracker: Option<TrackerChoice>,
+    /// Seed of the trackers' random draws [default: 1, or the configuration's seed]
+    #[arg(long, value_name = "S", conflicts_with = "seeds")]
+    pub seed: Option<u64>,
+    /// Seeds, comma-separated (1,2,3): every tracker runs with each over the same decoded
+    /// frames; the table shows means over the seeds and the AUC's range
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub seeds: Vec<u64>,
+    /// Configuration and particles.
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Pixel format decoded frames are converted to before tracking
+    #[arg(long, value_enum, value_name = "F", default_value = "rgb888")]
+    pub format: Format,
+    /// Box convention of every ground-truth file, unless named below.
+    #[command(flatten)]
+    pub convention: Convention,
+    /// Sequences whose ground truth counts pixels from 0, comma-separated folder names
+    /// (e.g. ball1_vot15)
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+    pub zero_based_sequences: Vec<String>,
+    /// Write the plots into DIR (success.png, precision.png, per tracker with both)
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write the plots into out/eval (or --out) also with --json
+    #[arg(long)]
+    pub plots: bool,
+    /// Write box files DIR/SEQUENCE.txt (SEQUENCE_TRACKER.txt with both trackers, and
+    /// _seedS before .txt with several seeds)
+    #[arg(long, value_name = "DIR")]
+    pub boxes: Option<PathBuf>,
+    /// Write DIR/SEQUENCE/0001.png, ... with every run's estimate, status and confidence
+    #[arg(long, value_name = "DIR")]
+    pub overlay: Option<PathBuf>,
+    /// Print one JSON object instead of the table (no plots unless --out or --plots)
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Options of `rbtrack paper`.
+#[derive(Debug, Args)]
+pub struct PaperArgs {
+    /// Runs (seeds 1..=N)
+    #[arg(long, value_name = "N", default_value_t = crate::paper::RUNS, value_parser = whole_in(1, 10_000))]
+    pub runs: usize,
+    /// Particles of the main comparison and the sweep
+    #[arg(long, value_name = "N", default_value_t = crate::paper::PARTICLES, value_parser = whole_in(1, 65_535))]
+    pub particles: usize,
+    /// Print JSON instead of the table
+    #[arg(long)]
+    pub json: bool,
+    /// Also write PNG figures into DIR
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+}
+
+/// A parser of whole numbers in `min..=max`.
+fn whole_in(
+    min: usize,
+    max: usize,
+) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync + 'static {
+    move |text| match text.parse::<usize>() {
+        Ok(n) if (min..=max).contains(&n) => Ok(n),
+        _ => Err(format!("expected a whole number in {min}..={max}")),
+    }
+}
+
+fn particle_count(text: &str) -> Result<usize, String> {
+    text.parse::<usize>()
+        .ok()
+        .filter(|n| PARTICLE_COUNTS.contains(n))
+        .ok_or_else(|| format!("expected one of {PARTICLE_COUNTS:?}"))
+}
+
+fn scene_named(text: &str) -> Result<scene::Variant, String> {
+    scene::Variant::from_name(text).ok_or_else(|| {
+        "expected perspective, distractor, occlusion, brightness, fast or leave".to_string()
+    })
+}
+
+fn box_arg(text: &str) -> Result<BBox, String> {
+    sequence::parse_bbox(text).map_err(|e| e.to_string())
+}
+
+/// Reports a command-line mistake (or prints the help or version asked for) and returns
+/// the exit code: 0 for help and version, 2 for a mistake. A bad value is one line on
+/// stderr, `rbtrack <subcommand>: <message>`; an unknown option or a missing argument
+/// adds the usage.
+pub fn report(e: &clap::Error) -> u8 {
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            // A closed stdout (`rbtrack --help | head -1`) is not worth a complaint.
+            let _ = e.print();
+            0
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            2
+        }
+        kind => {
+            let subcommand = std::env::args()
+                .nth(1)
+                .filter(|a| ["demo", "track", "eval", "paper"].contains(&a.as_str()));
+            let prefix = match subcommand {
+                Some(s) => format!("rbtrack {s}: "),
+                None => "rbtrack: ".to_string(),
+            };
+            let text = e.render().to_string();
+            let text = text.trim_end().trim_start_matches("error: ");
+            let with_usage = matches!(
+                kind,
+                ErrorKind::UnknownArgument
+                    | ErrorKind::InvalidSubcommand
+                    | ErrorKind::MissingRequiredArgument
+                    | ErrorKind::MissingSubcommand
+                    | ErrorKind::TooManyValues
+                    | ErrorKind::WrongNumberOfValues
+            );
+            let shown = if with_usage {
+                text.to_string()
+            } else {
+                // The first line, and the choices clap lists below it, if any.
+                let mut lines = text.lines();
+                let first = lines.next().unwrap_or_default();
+                match lines
+                    .map(str::trim)
+                    .find(|l| l.starts_with("[possible values"))
+                {
+                    Some(choices) => format!("{first} {choices}"),
+                    None => first.to_string(),
+                }
+            };
+            eprintln!("{prefix}{shown}");
+            2
+        }
+    }
+}

@@ -1,0 +1,466 @@
+//! `rbtrack eval`: every tracker and seed over every sequence of a folder. Each sequence's
+//! frames are decoded once for all its runs, and the sequences run in parallel, one
+//! thread per available core.
+
+use super::args::EvalArgs;
+use super::report::{mean_rows, plot_pair, sequence_rows, sequence_table, MeanRow, SequenceRow};
+use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult};
+use super::{
+    config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
+    overrides, progress_bar, wrote, Failure, TrackerKind,
+};
+use crate::config_fields::ConfigJson;
+use crate::metrics::{Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
+use crate::pixels::Format;
+use crate::sequence::{self, folder_name, GtOrigin, Sequence};
+use indicatif::ProgressBar;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Default plot folder.
+const PLOTS: &str = "out/eval";
+
+/// `eval`'s JSON document.
+#[derive(Serialize)]
+struct EvalJson<'a> {
+    data_dir: String,
+    particles: usize,
+    seeds: &'a [u64],
+    format: &'static str,
+    box_origin: &'static str,
+    zero_based_sequences: &'a [String],
+    trackers: &'a [TrackerKind],
+    /// Per tracker, the configuration of its first seed's runs (the others differ only in
+    /// `seed`).
+    config: BTreeMap<&'static str, ConfigJson<'a>>,
+    sequences: &'a [SequenceRow],
+    mean: &'a [MeanRow],
+    seconds: f64,
+}
+
+/// What every sequence runs with.
+struct Plan<'a> {
+    specs: &'a [RunSpec],
+    particles: usize,
+    format: Format,
+    overlay: Option<&'a Path>,
+    label_seeds: bool,
+    bar: &'a ProgressBar,
+}
+
+/// Runs `rbtrack eval`; `Ok(false)` when some sequence failed (reported and skipped).
+pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
+    let started = Instant::now();
+    let overrides = overrides(&args.config)?;
+    let trackers = match args.tracker {
+        Some(choice) => choice.trackers(),
+        None => vec![configured_tracker(&overrides).unwrap_or(TrackerKind::Rbpf)],
+    };
+    let seeds = match (&args.seeds[..], args.seed) {
+        ([], Some(seed)) => vec![seed],
+        ([], None) => vec![configured_seed(&overrides)],
+        (seeds, _) => seeds.to_vec(),
+    };
+    if let Some(twice) = seeds
+        .iter()
+        .find(|s| seeds.iter().filter(|t| t == s).count() > 1)
+    {
+        return Err(fail(format!("--seeds: seed {twice} is given twice")));
+    }
+    let mut specs = Vec::new();
+    for &tracker in &trackers {
+        for &seed in &seeds {
+            let config = config_for(&overrides, tracker, seed)?;
+            specs.push(RunSpec { tracker, config });
+        }
+    }
+
+    let dirs = sequence_dirs(&args.data)?;
+    for name in &args.zero_based_sequences {
+        if !dirs.iter().any(|d| folder_name(d) == *name) {
+            return Err(fail(format!(
+                "--zero-based-sequences: no sequence folder {name:?} in {}",
+                args.data.display()
+            )));
+        }
+    }
+    let mut all_ok = true;
+    let mut skip = |name: &Path, e: &dyn std::fmt::Display| {
+        eprintln!("rbtrack eval: skipping {}: {e}", name.display());
+        all_ok = false;
+    };
+    let mut seqs = Vec::new();
+    for dir in dirs {
+        let origin = if args.zero_based_sequences.contains(&folder_name(&dir)) {
+            GtOrigin::ZeroBased
+        } else {
+            args.convention.origin()
+        };
+        match Sequence::open(&dir, origin) {
+            Ok(s) => seqs.push(s),
+            Err(e) => skip(&dir, &e),
+        }
+    }
+    if seqs.is_empty() {
+        return Err(fail(format!(
+            "no usable sequence folders (with img/ and {}) in {}",
+            sequence::GROUNDTRUTH_FILE,
+            args.data.display()
+        )));
+    }
+
+    let bar = progress_bar(Some(seqs.iter().map(|s| s.len() as u64).sum()), "eval");
+    let plan = Plan {
+        specs: &specs,
+        particles: args.config.particles,
+        format: args.format,
+        overlay: args.overlay.as_deref(),
+        label_seeds: seeds.len() > 1,
+        bar: &bar,
+    };
+    let outcomes = run_in_parallel(&seqs, &plan);
+    bar.finish_and_clear();
+    let mut results = Vec::new();
+    for (seq, outcome) in seqs.iter().zip(outcomes) {
+        match outcome {
+            Ok(r) => results.push(r),
+            Err(e) => skip(&seq.dir, &e),
+        }
+    }
+    if results.is_empty() {
+        return Err(fail("no sequence could be tracked"));
+    }
+
+    let mut written = Vec::new();
+    if let Some(dir) = &args.boxes {
+        for s in &results {
+            for run in &s.runs {
+                let mut file = s.name.clone();
+                if trackers.len() > 1 {
+                    file += &format!("_{}", run.tracker());
+                }
+                if seeds.len() > 1 {
+                    file += &format!("_seed{}", run.seed());
+                }
+                let path = dir.join(file + ".txt");
+                runs::write_boxes(&path, &run.boxes, s.origin)?;
+                written.push(path.display().to_string());
+            }
+        }
+    }
+    if let Some(dir) = &args.overlay {
+        for s in &results {
+            let d = dir.join(&s.name);
+            written.push(format!("{} overlay frames into {}", s.frames, d.display()));
+        }
+    }
+
+    let rows = sequence_rows(&results, &trackers);
+    let means = mean_rows(&results, &trackers, &seeds);
+    let seconds = started.elapsed().as_secs_f64();
+    if args.json {
+        let config = specs
+            .iter()
+            .filter(|s| s.config.seed == seeds[0])
+            .map(|s| (s.tracker.name(), ConfigJson(&s.config)))
+            .collect();
+        let doc = EvalJson {
+            data_dir: args.data.display().to_string(),
+            particles: args.config.particles,
+            seeds: &seeds,
+            format: args.format.name(),
+            box_origin: args.convention.origin().name(),
+            zero_based_sequences: &args.zero_based_sequences,
+            trackers: &trackers,
+            config,
+            sequences: &rows,
+            mean: &means,
+            seconds,
+        };
+        let text = serde_json::to_string(&doc).map_err(fail)?;
+        emit(out, &format!("{text}\n"))?;
+    } else {
+        emit(out, &header(args, &results, &trackers, &seeds, &specs))?;
+        let shown_means = if results.len() > 1 { &means[..] } else { &[] };
+        emit(out, &sequence_table(&rows, shown_means, seeds.len() > 1))?;
+        if seeds.len() > 1 {
+            emit(out, &per_seed_means(&means))?;
+        }
+    }
+    if !args.json || args.plots || args.out.is_some() {
+        let dir = args.out.clone().unwrap_or_else(|| PathBuf::from(PLOTS));
+        for f in eval_plots(&dir, &results, &trackers, args.config.particles)? {
+            written.push(f.display().to_string());
+        }
+    }
+    for w in &written {
+        wrote(out, args.json, w)?;
+    }
+    let runs = results
+        .iter()
+        .map(|s| s.runs.len() * s.frames)
+        .sum::<usize>();
+    eprintln!(
+        "rbtrack eval: {} sequences x {} runs, {runs} tracked frames in {seconds:.1} s",
+        results.len(),
+        specs.len()
+    );
+    Ok(all_ok)
+}
+
+/// The lines above `eval`'s table: what ran, with which configuration.
+fn header(
+    args: &EvalArgs,
+    results: &[SequenceResult],
+    trackers: &[TrackerKind],
+    seeds: &[u64],
+    specs: &[RunSpec],
+) -> String {
+    let names: Vec<&str> = trackers.iter().map(|t| t.name()).collect();
+    let seeds_text: Vec<String> = seeds.iter().map(u64::to_string).collect();
+    let mut text = format!(
+        "{}: {} sequences; {}, {} particles, seed{} {}, {}; mean over sequences",
+        args.data.display(),
+        results.len(),
+        names.join(" and "),
+        args.config.particles,
+        if seeds.len() > 1 { "s" } else { "" },
+        seeds_text.join(", "),
+        args.format
+    );
+    if seeds.len() > 1 {
+        text += "; scores are means over the seeds, AUC min and max the lowest and highest \
+                 seed (for mean: of the set's mean AUC per seed)";
+    }
+    text += "; ms/frame is tracking only\n";
+    for s in specs.iter().filter(|s| s.config.seed == seeds[0]) {
+        text += &format!("config {}: {}\n", s.tracker, config_summary(&s.config));
+    }
+    text + "\n"
+}
+
+/// The set's mean AUC of each seed, one line per tracker.
+fn per_seed_means(means: &[MeanRow]) -> String {
+    let mut text = String::from("\nmean AUC per seed:");
+    for m in means {
+        let per_seed: Vec<String> = m
+            .scores
+            .per_seed
+            .iter()
+            .map(|s| format!("{} {:.3}", s.seed, s.scores.auc.unwrap_or(f64::NAN)))
+            .collect();
+        text += &format!(" {}: {};", m.tracker, per_seed.join(", "));
+    }
+    text.pop();
+    text + "\n"
+}
+
+/// Evaluates every sequence of `seqs` with `plan`, on as many threads as there are cores
+/// (at most one per sequence), the largest sequences first. Results in `seqs` order.
+fn run_in_parallel(seqs: &[Sequence], plan: &Plan) -> Vec<Result<SequenceResult, Failure>> {
+    let mut order: Vec<usize> = (0..seqs.len()).collect();
+    let cost = |s: &Sequence| s.len() as u64 * s.width as u64 * s.height as u64;
+    order.sort_by_key(|&i| std::cmp::Reverse(cost(&seqs[i])));
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(seqs.len());
+    let next = AtomicUsize::new(0);
+    let mut outcomes: Vec<Option<Result<SequenceResult, Failure>>> =
+        seqs.iter().map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                        done.push((i, evaluate(&seqs[i], plan)));
+                    }
+                    done
+                })
+            })
+            .collect();
+        for worker in workers {
+            match worker.join() {
+                Ok(done) => {
+                    for (i, outcome) in done {
+                        outcomes[i] = Some(outcome);
+                    }
+                }
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+    });
+    outcomes
+        .into_iter()
+        .map(|o| o.unwrap_or_else(|| Err(fail("not evaluated"))))
+        .collect()
+}
+
+/// Every run of `plan` over one sequence, from its first ground-truth box, scored.
+fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
+    let init = seq
+        .init_box()
+        .ok_or_else(|| fail(format!("{} is empty", sequence::GROUNDTRUTH_FILE)))?;
+    check_init(
+        &init,
+        seq.width,
+        seq.height,
+        &seq.origin.from_zero_based(init),
+    )?;
+    let overlay = plan.overlay.map(|d| d.join(&seq.name));
+    if let Some(dir) = &overlay {
+        create_dir(dir)?;
+    }
+    let format = plan.format;
+    let frames = seq.frames().map(|f| {
+        f.map_err(fail)
+            .and_then(|f| f.convert(format).map_err(fail))
+    });
+    let mut runs = track_frames(
+        plan.specs,
+        plan.particles,
+        frames,
+        &init,
+        |i, frame, runs| {
+            plan.bar.inc(1);
+            match &overlay {
+                Some(dir) => write_overlay(
+                    dir,
+                    frame,
+                    i,
+                    seq.groundtruth.get(i),
+                    runs,
+                    plan.label_seeds,
+                ),
+                None => Ok(()),
+            }
+        },
+    )?;
+    for r in &mut runs {
+        r.score(&seq.groundtruth);
+    }
+    Ok(SequenceResult {
+        name: seq.name.clone(),
+        frames: runs.first().map_or(0, |r| r.boxes.len()),
+        origin: seq.origin,
+        runs,
+    })
+}
+
+/// The sequence folders of `data`, sorted by name; notes the folders without `img/`.
+fn sequence_dirs(data: &Path) -> Result<Vec<PathBuf>, Failure> {
+    let entries = std::fs::read_dir(data)
+        .map_err(|e| fail(format!("cannot read data folder {}: {e}", data.display())))?;
+    let mut dirs: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    dirs.retain(|d| {
+        let ok = d.join("img").is_dir();
+        if !ok {
+            eprintln!(
+                "rbtrack eval: note: skipping {}: no img/ folder",
+                d.display()
+            );
+        }
+        ok
+    });
+    Ok(dirs)
+}
+
+/// The mean of `curves` point by point (all of length `len`).
+fn mean_curve(curves: &[&[f64]], len: usize) -> Vec<f64> {
+    (0..len)
+        .map(|i| curves.iter().map(|c| c[i]).sum::<f64>() / curves.len().max(1) as f64)
+        .collect()
+}
+
+/// Per sequence and tracker, its success and precision curves averaged over its seeds.
+fn curves(s: &SequenceResult, tracker: TrackerKind) -> Option<(Vec<f64>, Vec<f64>)> {
+    let evals: Vec<&Evaluation> = s
+        .runs
+        .iter()
+        .filter(|r| r.tracker() == tracker)
+        .filter_map(|r| r.evaluation.as_ref())
+        .collect();
+    if evals.is_empty() {
+        return None;
+    }
+    let success: Vec<&[f64]> = evals.iter().map(|e| &e.success_curve[..]).collect();
+    let precision: Vec<&[f64]> = evals.iter().map(|e| &e.precision_curve[..]).collect();
+    Some((
+        mean_curve(&success, SUCCESS_STEPS),
+        mean_curve(&precision, PRECISION_MAX_PX + 1),
+    ))
+}
+
+/// Writes `eval`'s plots into `dir`: per tracker, success and precision plots with one
+/// curve per sequence (the mean over its seeds) plus the mean curve (`success.png`,
+/// `precision.png` for one tracker; `success_rbpf.png`, ... for both, plus `success.png`,
+/// `precision.png` comparing the trackers' mean curves). Returns the files written.
+fn eval_plots(
+    dir: &Path,
+    results: &[SequenceResult],
+    trackers: &[TrackerKind],
+    particles: usize,
+) -> Result<Vec<PathBuf>, Failure> {
+    create_dir(dir)?;
+    let mut files = Vec::new();
+    let several = trackers.len() > 1;
+    let (mut labels_all, mut success_all, mut precision_all) = (Vec::new(), Vec::new(), Vec::new());
+    for &k in trackers {
+        let (mut labels, mut success, mut precision) = (Vec::new(), Vec::new(), Vec::new());
+        for s in results {
+            if let Some((sc, pc)) = curves(s, k) {
+                labels.push(s.name.clone());
+                success.push(sc);
+                precision.push(pc);
+            }
+        }
+        if labels.is_empty() {
+            continue;
+        }
+        let mean_success = mean_curve(
+            &success.iter().map(Vec::as_slice).collect::<Vec<_>>(),
+            SUCCESS_STEPS,
+        );
+        let mean_precision = mean_curve(
+            &precision.iter().map(Vec::as_slice).collect::<Vec<_>>(),
+            PRECISION_MAX_PX + 1,
+        );
+        if labels.len() > 1 {
+            labels.push("mean".into());
+            success.push(mean_success.clone());
+            precision.push(mean_precision.clone());
+        }
+        let stem = if several {
+            format!("_{k}")
+        } else {
+            String::new()
+        };
+        let title = format!("{k}, {particles} particles");
+        files.extend(plot_pair(
+            dir, &stem, &title, &labels, &success, &precision,
+        )?);
+        labels_all.push(format!("{k} mean"));
+        success_all.push(mean_success);
+        precision_all.push(mean_precision);
+    }
+    if several && !labels_all.is_empty() {
+        let title = format!("mean over sequences, {particles} particles");
+        files.extend(plot_pair(
+            dir,
+            "",
+            &title,
+            &labels_all,
+            &success_all,
+            &precision_all,
+        )?);
+    }
+    Ok(files)
+}

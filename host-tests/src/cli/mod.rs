@@ -1,0 +1,231 @@
+//! The `rbtrack` command-line program: its arguments ([`args`]) and the work behind each
+//! subcommand ([`demo`], [`track`], [`eval`], [`paper()`]); `main.rs` only parses and
+//! dispatches.
+//!
+//! Conventions:
+//! - Boxes are 0-based in memory ([`crate::metrics`]). Ground-truth files, `--init`, box
+//!   files (`--boxes`) and per-frame files (`--per-frame`) count pixels from 1 unless
+//!   `--zero-based` (or, for `eval`, `--zero-based-sequences`) says otherwise
+//!   ([`crate::sequence::GtOrigin`]); the convention is stated, never guessed.
+//! - Timings are tracking only: time inside the core's `step` (decoding and format
+//!   conversion excluded) over the frames after the first, divided by their number.
+//! - Scores follow OTB: every frame with a valid ground-truth box counts, the first
+//!   (initialisation) frame included.
+//! - Reports go to the writer given (stdout); `wrote <path>` notes too, or to stderr when
+//!   the report is JSON. A write to a closed stdout ends the command with
+//!   [`Failure::Output`], which `main` treats as a normal end.
+
+pub mod args;
+mod demo;
+mod eval;
+mod input;
+mod report;
+mod runs;
+mod track;
+
+pub use demo::demo;
+pub use eval::eval;
+pub use track::track;
+
+use crate::config_fields::Overrides;
+use crate::draw::{self, Rgb};
+use crate::paper;
+use args::{ConfigArgs, PaperArgs};
+use indicatif::{ProgressBar, ProgressStyle};
+use rbtrack::tracker::{Config, Variant};
+use serde::Serialize;
+use std::fmt;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// Why a command stopped.
+#[derive(Debug)]
+pub enum Failure {
+    /// A failure reported on one line: bad input data, an unwritable file...
+    Message(String),
+    /// Standard output could not be written, e.g. closed early by its reader.
+    Output(io::Error),
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Message(m) => f.write_str(m),
+            Self::Output(e) => write!(f, "cannot write to standard output: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for Failure {}
+
+/// A [`Failure::Message`] of anything displayable.
+pub(crate) fn fail(e: impl fmt::Display) -> Failure {
+    Failure::Message(e.to_string())
+}
+
+/// Writes `text` to the command's output.
+pub(crate) fn emit(out: &mut dyn Write, text: &str) -> Result<(), Failure> {
+    out.write_all(text.as_bytes()).map_err(Failure::Output)
+}
+
+/// Notes a file written: on `out`, or on stderr when `out` carries JSON.
+pub(crate) fn wrote(out: &mut dyn Write, json: bool, what: &str) -> Result<(), Failure> {
+    if json {
+        eprintln!("wrote {what}");
+        Ok(())
+    } else {
+        emit(out, &format!("wrote {what}\n"))
+    }
+}
+
+/// Which filter a run uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TrackerKind {
+    /// The Rao-Blackwellised particle filter.
+    Rbpf,
+    /// The colour particle filter.
+    Pf,
+}
+
+impl TrackerKind {
+    /// Both, in the order tables and plots list them.
+    pub const ALL: [TrackerKind; 2] = [TrackerKind::Rbpf, TrackerKind::Pf];
+
+    /// Command-line name: `rbpf` or `pf`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Rbpf => "rbpf",
+            Self::Pf => "pf",
+        }
+    }
+
+    /// The core's variant.
+    pub fn variant(self) -> Variant {
+        match self {
+            Self::Rbpf => Variant::Rbpf,
+            Self::Pf => Variant::ColourPf,
+        }
+    }
+
+    /// The tracker running `variant`.
+    pub fn of(variant: Variant) -> Self {
+        match variant {
+            Variant::Rbpf => Self::Rbpf,
+            Variant::ColourPf => Self::Pf,
+        }
+    }
+
+    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan (from
+    /// [`draw::TRACKER_COLOURS`]; red and blue would vanish on the synthetic target's red
+    /// shirt and blue trousers). Plots colour their curves in series order instead.
+    pub fn colour(self) -> Rgb {
+        match self {
+            Self::Rbpf => draw::tracker_colour(2),
+            Self::Pf => draw::tracker_colour(4),
+        }
+    }
+
+    /// Name of [`TrackerKind::colour`].
+    pub fn colour_name(self) -> &'static str {
+        match self {
+            Self::Rbpf => "yellow",
+            Self::Pf => "cyan",
+        }
+    }
+}
+
+impl fmt::Display for TrackerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The `--config` file's settings, then the `--set`s.
+pub(crate) fn overrides(args: &ConfigArgs) -> Result<Overrides, Failure> {
+    let mut settings = match &args.config {
+        Some(path) => {
+            crate::config_fields::read_toml(path).map_err(|e| fail(format!("--config {e}")))?
+        }
+        None => Vec::new(),
+    };
+    settings.extend(args.set.iter().cloned());
+    Ok(Overrides(settings))
+}
+
+/// The configuration of `tracker` with `seed` under `overrides`, checked; the error names
+/// the tracker and the field.
+pub(crate) fn config_for(
+    overrides: &Overrides,
+    tracker: TrackerKind,
+    seed: u64,
+) -> Result<Config, Failure> {
+    overrides
+        .config(tracker.variant(), seed)
+        .map_err(|e| fail(format!("{tracker}: {e}")))
+}
+
+/// The tracker a configuration asks for (`variant`), if it names one.
+pub(crate) fn configured_tracker(overrides: &Overrides) -> Option<TrackerKind> {
+    overrides.value::<Variant>("variant").map(TrackerKind::of)
+}
+
+/// The seed a configuration asks for (`seed`), or 1.
+pub(crate) fn configured_seed(overrides: &Overrides) -> u64 {
+    overrides.value::<u64>("seed").unwrap_or(1)
+}
+
+/// The fields of `config` that differ from its variant's defaults, as `FIELD=VALUE`s,
+/// or `defaults`.
+pub(crate) fn config_summary(config: &Config) -> String {
+    let changed = crate::config_fields::changed_fields(config);
+    if changed.is_empty() {
+        "defaults".to_string()
+    } else {
+        changed.join(", ")
+    }
+}
+
+/// A progress bar of `len` steps (a spinner when unknown) on stderr, hidden when stderr
+/// is not a terminal.
+pub(crate) fn progress_bar(len: Option<u64>, what: &str) -> ProgressBar {
+    let (bar, template) = match len {
+        Some(n) => (
+            ProgressBar::new(n),
+            "{prefix} [{bar:30}] {pos}/{len} frames, ETA {eta}",
+        ),
+        None => (
+            ProgressBar::new_spinner(),
+            "{prefix} {spinner} {pos} frames",
+        ),
+    };
+    let style = ProgressStyle::with_template(template)
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("#>.");
+    bar.set_style(style);
+    bar.set_prefix(what.to_string());
+    bar
+}
+
+/// Creates `dir` and its parents.
+pub(crate) fn create_dir(dir: &Path) -> Result<(), Failure> {
+    std::fs::create_dir_all(dir).map_err(|e| fail(format!("cannot create {}: {e}", dir.display())))
+}
+
+/// `rbtrack paper`: the study's table or JSON, and its figures with `--plots DIR`.
+pub fn paper(args: &PaperArgs, out: &mut dyn Write) -> Result<(), Failure> {
+    let params = paper::Params::STUDY;
+    let study = paper::study(&params, args.runs, args.particles);
+    if args.json {
+        emit(out, &format!("{}\n", paper::json(&study, &params)))?;
+    } else {
+        emit(out, &paper::table(&study, &params))?;
+    }
+    if let Some(dir) = &args.plots {
+        let files = paper::write_plots(&study, dir).map_err(|e| fail(format!("plots: {e}")))?;
+        for f in files {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    Ok(())
+}

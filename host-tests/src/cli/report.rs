@@ -1,0 +1,369 @@
+//! What the commands report: scores per run and over seeds, the tables, and the
+//! per-frame CSV. The JSON documents are built from these types (serde).
+
+use super::runs::{status_name, RunResult, SequenceResult};
+use super::{fail, Failure, TrackerKind};
+use crate::draw::{self, Series};
+use crate::sequence::GtOrigin;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Scores of one run, or their means over runs; `None` without ground truth (and
+/// `ms_per_frame` for a one-frame run).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Scores {
+    /// Success AUC.
+    pub auc: Option<f64>,
+    /// Precision at 20 px.
+    pub prec20: Option<f64>,
+    /// Mean IoU.
+    pub miou: Option<f64>,
+    /// Share of frames with IoU > 0.5.
+    pub success_rate: Option<f64>,
+    /// Tracking-only milliseconds per frame.
+    pub ms_per_frame: Option<f64>,
+}
+
+fn mean(values: impl Iterator<Item = Option<f64>>) -> Option<f64> {
+    let (sum, n) = values
+        .flatten()
+        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    (n > 0).then(|| sum / n as f64)
+}
+
+impl Scores {
+    /// The scores of one run.
+    pub fn of(run: &RunResult) -> Self {
+        let e = run.evaluation.as_ref();
+        Self {
+            auc: e.map(|e| e.success_auc),
+            prec20: e.map(|e| e.precision_20),
+            miou: e.map(|e| e.mean_iou),
+            success_rate: e.map(|e| e.success_rate),
+            ms_per_frame: run.ms_per_frame(),
+        }
+    }
+
+    /// Each score's mean over `all` (of those that have it).
+    pub fn mean(all: &[Scores]) -> Self {
+        Self {
+            auc: mean(all.iter().map(|s| s.auc)),
+            prec20: mean(all.iter().map(|s| s.prec20)),
+            miou: mean(all.iter().map(|s| s.miou)),
+            success_rate: mean(all.iter().map(|s| s.success_rate)),
+            ms_per_frame: mean(all.iter().map(|s| s.ms_per_frame)),
+        }
+    }
+}
+
+/// One seed's scores.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SeedScores {
+    /// The seed.
+    pub seed: u64,
+    /// Its scores.
+    #[serde(flatten)]
+    pub scores: Scores,
+}
+
+/// Scores over seeds: their mean, the lowest and highest AUC, and every seed's.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OverSeeds {
+    /// Means over the seeds.
+    #[serde(flatten)]
+    pub mean: Scores,
+    /// Lowest AUC of a seed.
+    pub auc_min: Option<f64>,
+    /// Highest AUC of a seed.
+    pub auc_max: Option<f64>,
+    /// Each seed's scores, in the order run.
+    pub per_seed: Vec<SeedScores>,
+}
+
+impl OverSeeds {
+    /// The summary of `per_seed`.
+    pub fn new(per_seed: Vec<SeedScores>) -> Self {
+        let scores: Vec<Scores> = per_seed.iter().map(|s| s.scores).collect();
+        let aucs = || per_seed.iter().filter_map(|s| s.scores.auc);
+        Self {
+            mean: Scores::mean(&scores),
+            auc_min: aucs().reduce(f64::min),
+            auc_max: aucs().reduce(f64::max),
+            per_seed,
+        }
+    }
+}
+
+/// One sequence and tracker, over the seeds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SequenceRow {
+    /// Sequence name.
+    pub sequence: String,
+    /// The tracker.
+    pub tracker: TrackerKind,
+    /// Frames tracked.
+    pub frames: usize,
+    /// Scores over the seeds.
+    #[serde(flatten)]
+    pub scores: OverSeeds,
+}
+
+/// One tracker over the sequences: per seed, the mean over sequences; then over seeds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MeanRow {
+    /// The tracker.
+    pub tracker: TrackerKind,
+    /// Sequences averaged (those with ground truth).
+    pub sequences: usize,
+    /// Frames tracked over them.
+    pub frames: usize,
+    /// The set's mean per seed and over seeds.
+    #[serde(flatten)]
+    pub scores: OverSeeds,
+}
+
+/// One row per sequence and tracker (in `trackers` order), over each tracker's seeds.
+pub fn sequence_rows(results: &[SequenceResult], trackers: &[TrackerKind]) -> Vec<SequenceRow> {
+    let mut rows = Vec::new();
+    for s in results {
+        for &tracker in trackers {
+            let per_seed: Vec<SeedScores> = s
+                .runs
+                .iter()
+                .filter(|r| r.tracker() == tracker)
+                .map(|r| SeedScores {
+                    seed: r.seed(),
+                    scores: Scores::of(r),
+                })
+                .collect();
+            if !per_seed.is_empty() {
+                rows.push(SequenceRow {
+                    sequence: s.name.clone(),
+                    tracker,
+                    frames: s.frames,
+                    scores: OverSeeds::new(per_seed),
+                });
+            }
+        }
+    }
+    rows
+}
+
+/// Per tracker, the set's mean over the sequences with ground truth for each seed, and
+/// over the seeds; `None` for a tracker without such sequences.
+pub fn mean_rows(
+    results: &[SequenceResult],
+    trackers: &[TrackerKind],
+    seeds: &[u64],
+) -> Vec<MeanRow> {
+    trackers
+        .iter()
+        .filter_map(|&tracker| {
+            let scored: Vec<&SequenceResult> = results
+                .iter()
+                .filter(|s| {
+                    s.runs
+                        .iter()
+                        .any(|r| r.tracker() == tracker && r.evaluation.is_some())
+                })
+                .collect();
+            if scored.is_empty() {
+                return None;
+            }
+            let per_seed = seeds
+                .iter()
+                .map(|&seed| {
+                    let runs: Vec<Scores> = scored
+                        .iter()
+                        .flat_map(|s| &s.runs)
+                        .filter(|r| r.tracker() == tracker && r.seed() == seed)
+                        .map(Scores::of)
+                        .collect();
+                    SeedScores {
+                        seed,
+                        scores: Scores::mean(&runs),
+                    }
+                })
+                .collect();
+            Some(MeanRow {
+                tracker,
+                sequences: scored.len(),
+                frames: scored.iter().map(|s| s.frames).sum(),
+                scores: OverSeeds::new(per_seed),
+            })
+        })
+        .collect()
+}
+
+fn score(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.3}"))
+}
+
+fn millis(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.2}"))
+}
+
+/// Formats rows under `header`; the first `left` columns are left-aligned, the rest
+/// right-aligned.
+fn render_table(header: &[&str], rows: &[Vec<String>], left: usize) -> String {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.len()).collect();
+    for row in rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.len());
+        }
+    }
+    let line = |cells: &mut dyn Iterator<Item = &str>| {
+        let mut out = String::new();
+        for (i, (cell, w)) in cells.zip(&widths).enumerate() {
+            if i > 0 {
+                out.push_str("  ");
+            }
+            if i < left {
+                let _ = write!(out, "{cell:<w$}");
+            } else {
+                let _ = write!(out, "{cell:>w$}");
+            }
+        }
+        out.trim_end().to_string() + "\n"
+    };
+    let mut out = line(&mut header.iter().copied());
+    let rule: usize = widths.iter().sum::<usize>() + 2 * widths.len().saturating_sub(1);
+    out.push_str(&"-".repeat(rule));
+    out.push('\n');
+    for row in rows {
+        out.push_str(&line(&mut row.iter().map(String::as_str)));
+    }
+    out
+}
+
+/// The score cells of a row: AUC (then its lowest and highest over seeds, if `range` is
+/// given), precision at 20 px, mean IoU, success rate, ms per frame.
+fn score_cells(s: &Scores, range: Option<[Option<f64>; 2]>) -> Vec<String> {
+    let mut cells = vec![score(s.auc)];
+    cells.extend(range.into_iter().flatten().map(score));
+    cells.extend([
+        score(s.prec20),
+        score(s.miou),
+        score(s.success_rate),
+        millis(s.ms_per_frame),
+    ]);
+    cells
+}
+
+fn score_header(spread: bool) -> Vec<&'static str> {
+    let mut header = vec!["AUC"];
+    if spread {
+        header.extend(["AUC min", "AUC max"]);
+    }
+    header.extend(["prec@20", "mIoU", "success", "ms/frame"]);
+    header
+}
+
+/// The table of `track` and `eval`: one row per sequence and tracker, then the `mean`
+/// rows; with `spread`, each AUC's lowest and highest over the seeds (for `mean`: of the
+/// set's mean per seed).
+pub fn sequence_table(rows: &[SequenceRow], means: &[MeanRow], spread: bool) -> String {
+    let range = |s: &OverSeeds| spread.then_some([s.auc_min, s.auc_max]);
+    let mut cells = Vec::new();
+    for r in rows {
+        let mut row = vec![
+            r.sequence.clone(),
+            r.tracker.to_string(),
+            r.frames.to_string(),
+        ];
+        row.extend(score_cells(&r.scores.mean, range(&r.scores)));
+        cells.push(row);
+    }
+    for m in means {
+        let mut row = vec!["mean".into(), m.tracker.to_string(), m.frames.to_string()];
+        row.extend(score_cells(&m.scores.mean, range(&m.scores)));
+        cells.push(row);
+    }
+    let mut header = vec!["sequence", "tracker", "frames"];
+    header.extend(score_header(spread));
+    render_table(&header, &cells, 2)
+}
+
+/// The demo's table: one row per run (success AUC, precision at 20 px, mean IoU, success
+/// rate at IoU 0.5, tracking-only ms per frame).
+pub fn tracker_table(runs: &[RunResult]) -> String {
+    let cells: Vec<Vec<String>> = runs
+        .iter()
+        .map(|r| {
+            let mut row = vec![r.tracker().to_string()];
+            row.extend(score_cells(&Scores::of(r), None));
+            row
+        })
+        .collect();
+    let mut header = vec!["tracker"];
+    header.extend(score_header(false));
+    render_table(&header, &cells, 1)
+}
+
+/// Writes `success{stem}.png` and `precision{stem}.png` into `dir`.
+pub fn plot_pair(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    labels: &[String],
+    success: &[Vec<f64>],
+    precision: &[Vec<f64>],
+) -> Result<Vec<PathBuf>, Failure> {
+    fn series<'a>(labels: &'a [String], curves: &'a [Vec<f64>]) -> Vec<Series<'a>> {
+        labels
+            .iter()
+            .zip(curves)
+            .map(|(label, values)| Series { label, values })
+            .collect()
+    }
+    let sp = dir.join(format!("success{stem}.png"));
+    let pp = dir.join(format!("precision{stem}.png"));
+    draw::success_plot(
+        &sp,
+        &format!("Success plot: {title}"),
+        &series(labels, success),
+    )
+    .map_err(fail)?;
+    draw::precision_plot(
+        &pp,
+        &format!("Precision plot: {title}"),
+        &series(labels, precision),
+    )
+    .map_err(fail)?;
+    Ok(vec![sp, pp])
+}
+
+/// Header of [`per_frame_csv`].
+pub const PER_FRAME_HEADER: &str = "frame,x,y,w,h,cx,cy,hx,hy,vx,vy,confidence,status";
+
+/// One CSV row per frame of `run`: the frame number (from 1), the box `x,y,w,h` and the
+/// ellipse centre `cx,cy` in `origin`'s convention, the half-axes `hx,hy` (px), the
+/// velocity `vx,vy` (px/frame), the confidence (0..1) and the status.
+pub fn per_frame_csv(run: &RunResult, origin: GtOrigin) -> String {
+    let mut out = String::from(PER_FRAME_HEADER);
+    out.push('\n');
+    let shift = origin.offset();
+    for (i, (b, e)) in run.boxes.iter().zip(&run.estimates).enumerate() {
+        let b = origin.from_zero_based(*b);
+        let el = e.ellipse;
+        let _ = writeln!(
+            out,
+            "{},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.3},{:.3},{:.4},{}",
+            i + 1,
+            b.x,
+            b.y,
+            b.w,
+            b.h,
+            el.cx.to_f64() + shift,
+            el.cy.to_f64() + shift,
+            el.hx.to_f64(),
+            el.hy.to_f64(),
+            e.vx.to_f64(),
+            e.vy.to_f64(),
+            e.confidence.to_f64(),
+            status_name(e.status)
+        );
+    }
+    out
+}

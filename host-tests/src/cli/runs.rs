@@ -1,0 +1,256 @@
+//! Runs of one or more trackers over one sequence's frames, each frame decoded once and
+//! handed to every run; the overlays drawn on those frames; box files.
+
+use super::{create_dir, fail, Failure, TrackerKind};
+use crate::draw::{self, GREEN};
+use crate::metrics::{BBox, Evaluation};
+use crate::pixels::Frame;
+use crate::run::{self, Options, RunError};
+use crate::sequence::GtOrigin;
+use rbtrack::tracker::{Config, ConfigError, Estimate, Status};
+use std::path::Path;
+use std::time::Duration;
+
+/// One run to make: a filter and its configuration (the seed included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSpec {
+    /// The filter.
+    pub tracker: TrackerKind,
+    /// Its configuration, checked.
+    pub config: Config,
+}
+
+/// One run over one sequence.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunResult {
+    /// What ran.
+    pub spec: RunSpec,
+    /// Estimated box per frame, 0-based; the first is the initial box.
+    pub boxes: Vec<BBox>,
+    /// The core's estimate per frame; the first is the initial one.
+    pub estimates: Vec<Estimate>,
+    /// Scores against the ground truth, if there is any.
+    pub evaluation: Option<Evaluation>,
+    /// Total time inside the tracker's `step`.
+    pub tracking: Duration,
+}
+
+impl RunResult {
+    /// The filter.
+    pub fn tracker(&self) -> TrackerKind {
+        self.spec.tracker
+    }
+
+    /// The seed of its random draws.
+    pub fn seed(&self) -> u64 {
+        self.spec.config.seed
+    }
+
+    /// Tracking-only milliseconds per frame after the first; `None` for one frame.
+    pub fn ms_per_frame(&self) -> Option<f64> {
+        let steps = self.estimates.len().saturating_sub(1);
+        (steps > 0).then(|| self.tracking.as_secs_f64() * 1e3 / steps as f64)
+    }
+
+    /// Scores the boxes against `truth` (0-based); none when `truth` is empty.
+    pub fn score(&mut self, truth: &[BBox]) {
+        self.evaluation = (!truth.is_empty()).then(|| Evaluation::new(truth, &self.boxes));
+    }
+}
+
+/// Every run over one sequence.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SequenceResult {
+    /// Sequence name.
+    pub name: String,
+    /// Frames tracked, the first included.
+    pub frames: usize,
+    /// Convention of the sequence's box files.
+    pub origin: GtOrigin,
+    /// One entry per run, in the order of the specs.
+    pub runs: Vec<RunResult>,
+}
+
+/// Checks that an initial box (0-based) is usable on a `width x height` frame: finite,
+/// positive size, centre inside the frame. `shown` is the box as the user wrote it, for
+/// the message.
+pub fn check_init(init: &BBox, width: u32, height: u32, shown: &BBox) -> Result<(), Failure> {
+    if !init.is_valid() {
+        return Err(fail(format!(
+            "initial box {} has no positive, finite size",
+            box_line(shown)
+        )));
+    }
+    let (cx, cy) = init.centre();
+    if !(cx >= 0.0 && cy >= 0.0 && cx <= width as f64 - 1.0 && cy <= height as f64 - 1.0) {
+        return Err(fail(format!(
+            "initial box {} is outside the {width}x{height} frame (its centre must lie inside)",
+            box_line(shown)
+        )));
+    }
+    Ok(())
+}
+
+fn run_error(e: RunError, config: &Config) -> Failure {
+    match e {
+        RunError::Config(ConfigError::InitialEllipse) => fail(format!(
+            "initial box too small (width and height must be at least {} px) or centred \
+             outside the frame",
+            2.0 * config.min_half_axis.to_f64()
+        )),
+        e => fail(e),
+    }
+}
+
+/// Runs every spec with `particles` particles over `frames` from `init`, the 0-based box
+/// of the first frame, each frame decoded once for all of them. After each frame is
+/// tracked, `on_frame(index, frame, runs)` sees it with the runs so far (their last
+/// estimate is this frame's), e.g. to draw it. Results carry no evaluation.
+pub fn track_frames<I>(
+    specs: &[RunSpec],
+    particles: usize,
+    frames: I,
+    init: &BBox,
+    mut on_frame: impl FnMut(usize, &Frame, &[RunResult]) -> Result<(), Failure>,
+) -> Result<Vec<RunResult>, Failure>
+where
+    I: IntoIterator<Item = Result<Frame, Failure>>,
+{
+    let mut frames = frames.into_iter();
+    let mut results: Vec<RunResult> = specs
+        .iter()
+        .map(|&spec| RunResult {
+            spec,
+            boxes: Vec::new(),
+            estimates: Vec::new(),
+            evaluation: None,
+            tracking: Duration::ZERO,
+        })
+        .collect();
+    let Some(first) = frames.next() else {
+        return Ok(results);
+    };
+    let first = first?;
+    let mut runners = Vec::with_capacity(specs.len());
+    for r in &mut results {
+        let options = Options {
+            config: r.spec.config,
+            particles,
+        };
+        let runner =
+            run::start(&options, &first, init).map_err(|e| run_error(e, &r.spec.config))?;
+        r.boxes.push(*init);
+        r.estimates.push(runner.estimate());
+        runners.push(runner);
+    }
+    on_frame(0, &first, &results)?;
+    for (index, frame) in (1..).zip(frames) {
+        let frame = frame?;
+        for (runner, r) in runners.iter_mut().zip(&mut results) {
+            let step = runner
+                .step(&frame)
+                .map_err(|e| run_error(e, &r.spec.config))?;
+            r.tracking += step.elapsed;
+            r.boxes.push(step.bbox);
+            r.estimates.push(step.estimate);
+        }
+        on_frame(index, &frame, &results)?;
+    }
+    Ok(results)
+}
+
+/// Lower-case name of a status: `tracking`, `uncertain` or `lost`.
+pub fn status_name(status: Status) -> &'static str {
+    match status {
+        Status::Tracking => "tracking",
+        Status::Uncertain => "uncertain",
+        Status::Lost => "lost",
+    }
+}
+
+/// Frame `index` (0-based) as RGB888 with the ground truth `truth` (green box, if valid),
+/// each run's latest estimate (its ellipse, in [`TrackerKind::colour`]) and, in the
+/// top-left corner, the frame number and each run's status and confidence (with its seed
+/// when `label_seeds`).
+pub fn overlay(
+    frame: &Frame,
+    index: usize,
+    truth: Option<&BBox>,
+    runs: &[RunResult],
+    label_seeds: bool,
+) -> Result<Vec<u8>, Failure> {
+    let (width, height) = (frame.width, frame.height);
+    let mut img = frame.to_rgb888();
+    let thick = if width >= 640 { 3 } else { 2 };
+    if let Some(t) = truth.filter(|t| t.is_valid()) {
+        draw::draw_box(&mut img, width, height, t, GREEN, thick);
+    }
+    let mut lines = vec![(format!("frame {}", index + 1), [255, 255, 255])];
+    for r in runs {
+        let (Some(b), Some(e)) = (r.boxes.last(), r.estimates.last()) else {
+            continue;
+        };
+        let kind = r.tracker();
+        draw::draw_ellipse(
+            &mut img,
+            width,
+            height,
+            b.to_ellipse_f64(),
+            kind.colour(),
+            thick,
+        );
+        let seed = if label_seeds {
+            format!(" seed {}", r.seed())
+        } else {
+            String::new()
+        };
+        lines.push((
+            format!(
+                "{kind}{seed} {} {:.2}",
+                status_name(e.status),
+                e.confidence.to_f64()
+            ),
+            kind.colour(),
+        ));
+    }
+    draw::draw_text_lines(&mut img, width, height, &lines).map_err(fail)?;
+    Ok(img)
+}
+
+/// Writes [`overlay`] of frame `index` as `dir/0001.png`, ... (1-based numbers).
+pub fn write_overlay(
+    dir: &Path,
+    frame: &Frame,
+    index: usize,
+    truth: Option<&BBox>,
+    runs: &[RunResult],
+    label_seeds: bool,
+) -> Result<(), Failure> {
+    let img = overlay(frame, index, truth, runs, label_seeds)?;
+    let path = dir.join(format!("{:04}.png", index + 1));
+    draw::save_png(path, &img, frame.width, frame.height).map_err(fail)
+}
+
+/// A box as one `x,y,w,h` line (two decimals), as written to box files.
+pub fn box_line(b: &BBox) -> String {
+    format!("{:.2},{:.2},{:.2},{:.2}", b.x, b.y, b.w, b.h)
+}
+
+/// Creates the folder a file goes into.
+pub fn create_parent(path: &Path) -> Result<(), Failure> {
+    match path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(parent) => create_dir(parent),
+        None => Ok(()),
+    }
+}
+
+/// Writes 0-based `boxes` to `path`, one `x,y,w,h` line per frame, in `origin`'s
+/// convention.
+pub fn write_boxes(path: &Path, boxes: &[BBox], origin: GtOrigin) -> Result<(), Failure> {
+    let text: String = boxes
+        .iter()
+        .map(|b| box_line(&origin.from_zero_based(*b)) + "\n")
+        .collect();
+    create_parent(path)?;
+    std::fs::write(path, text).map_err(|e| fail(format!("cannot write {}: {e}", path.display())))
+}

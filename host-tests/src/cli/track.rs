@@ -1,0 +1,162 @@
+//! `rbtrack track`: one tracker over one sequence, video or raw dump.
+
+use super::args::TrackArgs;
+use super::input::Input;
+use super::report::{self, per_frame_csv, Scores, SeedScores};
+use super::runs::{self, box_line, check_init, create_parent, write_overlay, RunSpec};
+use super::{
+    config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
+    overrides, progress_bar, wrote, Failure, TrackerKind,
+};
+use crate::config_fields::ConfigJson;
+use crate::sequence::{self, read_groundtruth};
+use serde::Serialize;
+use std::io::Write;
+
+/// `track`'s JSON document.
+#[derive(Serialize)]
+struct TrackJson<'a> {
+    sequence: &'a str,
+    tracker: TrackerKind,
+    frames: usize,
+    #[serde(flatten)]
+    scores: Scores,
+    particles: usize,
+    seed: u64,
+    format: &'static str,
+    box_origin: &'static str,
+    config: ConfigJson<'a>,
+}
+
+/// Runs `rbtrack track`.
+pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
+    let origin = args.convention.origin();
+    let need_groundtruth = args.init.is_none() && args.groundtruth.is_none();
+    let input = Input::open(&args.input, args.raw, origin, need_groundtruth)?;
+    let groundtruth = match &args.groundtruth {
+        Some(path) => read_groundtruth(path, origin).map_err(fail)?,
+        None => input.groundtruth().to_vec(),
+    };
+    let (init, shown) = match args.init {
+        Some(b) => (origin.to_zero_based(b), b),
+        None => {
+            let b = groundtruth.first().copied().ok_or_else(|| {
+                let file = match &args.groundtruth {
+                    Some(path) => path.clone(),
+                    None => args.input.join(sequence::GROUNDTRUTH_FILE),
+                };
+                fail(format!(
+                    "{}: no ground-truth box for the first frame; give --init x,y,w,h",
+                    file.display()
+                ))
+            })?;
+            (b, origin.from_zero_based(b))
+        }
+    };
+    let (width, height) = input.size();
+    check_init(&init, width, height, &shown)?;
+
+    let overrides = overrides(&args.config)?;
+    let tracker = args
+        .tracker
+        .or_else(|| configured_tracker(&overrides))
+        .unwrap_or(TrackerKind::Rbpf);
+    let seed = args.seed.unwrap_or_else(|| configured_seed(&overrides));
+    let spec = RunSpec {
+        tracker,
+        config: config_for(&overrides, tracker, seed)?,
+    };
+    let format = args.raw.map_or(args.format, |raw| raw.format);
+    if let Some(dir) = &args.overlay {
+        create_dir(dir)?;
+    }
+
+    let name = input.name();
+    let bar = progress_bar(input.len().map(|n| n as u64), &name);
+    let frames = input.frames(format)?;
+    let mut runs = runs::track_frames(
+        &[spec],
+        args.config.particles,
+        frames,
+        &init,
+        |index, frame, runs| {
+            bar.inc(1);
+            match &args.overlay {
+                Some(dir) => write_overlay(dir, frame, index, groundtruth.get(index), runs, false),
+                None => Ok(()),
+            }
+        },
+    )?;
+    bar.finish_and_clear();
+    let Some(run) = runs.first_mut() else {
+        return Err(fail("no frames"));
+    };
+    run.score(&groundtruth);
+    let frames = run.estimates.len();
+    if !groundtruth.is_empty() && groundtruth.len() != frames {
+        eprintln!(
+            "rbtrack track: note: {} ground-truth boxes for {frames} frames; scoring the first {}",
+            groundtruth.len(),
+            groundtruth.len().min(frames)
+        );
+    }
+
+    let scores = Scores::of(run);
+    if args.json {
+        let doc = TrackJson {
+            sequence: &name,
+            tracker,
+            frames,
+            scores,
+            particles: args.config.particles,
+            seed,
+            format: format.name(),
+            box_origin: origin.name(),
+            config: ConfigJson(&run.spec.config),
+        };
+        let text = serde_json::to_string(&doc).map_err(fail)?;
+        emit(out, &format!("{text}\n"))?;
+    } else {
+        emit(
+            out,
+            &format!(
+                "{name}: {frames} frames, {width}x{height} px, {format}; {tracker}, {} particles, \
+                 seed {seed}; config: {}; init {} ({})\n\n",
+                args.config.particles,
+                config_summary(&run.spec.config),
+                box_line(&shown),
+                origin.name()
+            ),
+        )?;
+        let rows = [report::SequenceRow {
+            sequence: name.clone(),
+            tracker,
+            frames,
+            scores: report::OverSeeds::new(vec![SeedScores { seed, scores }]),
+        }];
+        emit(out, &report::sequence_table(&rows, &[], false))?;
+        emit(
+            out,
+            if groundtruth.is_empty() {
+                "(no ground truth: scores omitted; ms/frame is tracking only)\n"
+            } else {
+                "(ms/frame is tracking only, decoding excluded)\n"
+            },
+        )?;
+    }
+    if let Some(path) = &args.boxes {
+        runs::write_boxes(path, &run.boxes, origin)?;
+        wrote(out, args.json, &path.display().to_string())?;
+    }
+    if let Some(path) = &args.per_frame {
+        create_parent(path)?;
+        std::fs::write(path, per_frame_csv(run, origin))
+            .map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
+        wrote(out, args.json, &path.display().to_string())?;
+    }
+    if let Some(dir) = &args.overlay {
+        let what = format!("{frames} overlay frames into {}", dir.display());
+        wrote(out, args.json, &what)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,508 @@
+//! Every field of the core's [`Config`] by name, read and written as text: what
+//! `--set FIELD=VALUE`, `--config FILE` (TOML) and the JSON output of `rbtrack` share.
+//!
+//! Values: Q16.16 fields as decimals (`scale_per_row=0.1`), integers as integers, enums by
+//! lowercase name with an argument after a colon where they carry one (`cue_mix=product`,
+//! `cue_mix=average:0.5`, `readout=robust_mean:8`, `resampling=systematic`,
+//! `variant=rbpf`). The JSON form of a configuration ([`ConfigJson`]) prints every field
+//! in these spellings, so its `key = value` lines are a `--config` file that reproduces it.
+//!
+//! [`FIELDS`] is the one table: a field added to `Config` is one more name in it, and a
+//! unit test fails naming any field of `Config` it lacks.
+
+use rbtrack::fixed::Q16;
+use rbtrack::resample::Scheme;
+use rbtrack::tracker::{Config, CueMix, Readout, Variant};
+use serde::ser::{Serialize, SerializeMap, Serializer};
+use serde_json::Value;
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+/// A type of `Config` field: parsed from and shown as text.
+pub trait FieldValue: Sized {
+    /// Reads the text form; the error says what was expected.
+    fn parse(text: &str) -> Result<Self, String>;
+    /// The JSON form (a number, or a string for enums); its text parses back to `self`.
+    fn to_json(&self) -> Value;
+}
+
+/// One field of [`Config`]: its name and how to set and read it.
+pub struct Field {
+    /// The field's name in `Config`.
+    pub name: &'static str,
+    set: fn(&mut Config, &str) -> Result<(), String>,
+    get: fn(&Config) -> Value,
+}
+
+impl Field {
+    /// The field called `name`.
+    pub fn named(name: &str) -> Option<&'static Field> {
+        FIELDS.iter().find(|f| f.name == name)
+    }
+
+    /// Sets this field of `config` from `text`; the error names the field.
+    pub fn set(&self, config: &mut Config, text: &str) -> Result<(), String> {
+        (self.set)(config, text.trim()).map_err(|e| format!("`{}`: {e}", self.name))
+    }
+
+    /// This field of `config` in its JSON form.
+    pub fn get(&self, config: &Config) -> Value {
+        (self.get)(config)
+    }
+
+    /// This field of `config` as `--set` takes it.
+    pub fn text(&self, config: &Config) -> String {
+        match self.get(config) {
+            Value::String(s) => s,
+            v => v.to_string(),
+        }
+    }
+}
+
+impl fmt::Debug for Field {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name)
+    }
+}
+
+macro_rules! fields {
+    { $($name:ident,)* } => {
+        /// Every field of [`Config`], in its declaration order.
+        pub static FIELDS: &[Field] = &[$(
+            Field {
+                name: stringify!($name),
+                set: |config, text| {
+                    config.$name = FieldValue::parse(text)?;
+                    Ok(())
+                },
+                get: |config| config.$name.to_json(),
+            },
+        )*];
+    };
+}
+
+fields! {
+    variant,
+    seed,
+    pixels_per_window,
+    position_noise,
+    relative_position_noise,
+    velocity_noise,
+    noise_gain,
+    noise_floor,
+    velocity_keep,
+    scale_noise,
+    colour_sigma,
+    gradient_sigma,
+    cue_mix,
+    gradient_points,
+    gradient_search,
+    resampling,
+    resample_below,
+    readout,
+    adapt_rate,
+    adapt_above,
+    uncertain_below,
+    lost_below,
+    redetect_share,
+    scale_per_row,
+    kalman_q,
+    kalman_r,
+    scale_step,
+    min_half_axis,
+}
+
+fn whole<T: FromStr + fmt::Display>(text: &str, max: T) -> Result<T, String> {
+    text.parse()
+        .map_err(|_| format!("expected a whole number in 0..={max}, got {text:?}"))
+}
+
+impl FieldValue for u64 {
+    fn parse(text: &str) -> Result<Self, String> {
+        whole(text, u64::MAX)
+    }
+    fn to_json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+impl FieldValue for u32 {
+    fn parse(text: &str) -> Result<Self, String> {
+        whole(text, u32::MAX)
+    }
+    fn to_json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+impl FieldValue for u8 {
+    fn parse(text: &str) -> Result<Self, String> {
+        whole(text, u8::MAX)
+    }
+    fn to_json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+/// Largest magnitude of a Q16.16 value.
+const Q16_LIMIT: f64 = 32768.0;
+
+impl FieldValue for Q16 {
+    fn parse(text: &str) -> Result<Self, String> {
+        match text.parse::<f64>() {
+            Ok(v) if (-Q16_LIMIT..Q16_LIMIT).contains(&v) => Ok(Q16::from_f64(v)),
+            _ => Err(format!(
+                "expected a decimal number in -32768..32768, got {text:?}"
+            )),
+        }
+    }
+    /// The shortest decimal that reads back as the same Q16.16 value (five decimals
+    /// always do: they resolve steps below half of 2^-16).
+    fn to_json(&self) -> Value {
+        let exact = self.to_f64();
+        let shortest = (0..=5)
+            .filter_map(|digits| format!("{exact:.digits$}").parse::<f64>().ok())
+            .find(|v| Q16::from_f64(*v) == *self)
+            .unwrap_or(exact);
+        Value::from(shortest)
+    }
+}
+
+/// Parses `name` or `name:ARG` against `choices` (lowercase names, case-insensitive),
+/// returning the chosen name and its argument.
+fn choice<'a>(
+    text: &'a str,
+    choices: &[&'static str],
+    expected: &str,
+) -> Result<(&'static str, Option<&'a str>), String> {
+    let (name, arg) = match text.split_once(':') {
+        Some((n, a)) => (n, Some(a.trim())),
+        None => (text, None),
+    };
+    choices
+        .iter()
+        .find(|c| c.eq_ignore_ascii_case(name.trim()))
+        .map(|c| (*c, arg))
+        .ok_or_else(|| format!("expected {expected}, got {text:?}"))
+}
+
+impl FieldValue for Variant {
+    fn parse(text: &str) -> Result<Self, String> {
+        match choice(text, &["rbpf", "pf"], "rbpf or pf")? {
+            ("rbpf", None) => Ok(Variant::Rbpf),
+            ("pf", None) => Ok(Variant::ColourPf),
+            _ => Err(format!("expected rbpf or pf, got {text:?}")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        Value::from(match self {
+            Variant::Rbpf => "rbpf",
+            Variant::ColourPf => "pf",
+        })
+    }
+}
+
+impl FieldValue for CueMix {
+    fn parse(text: &str) -> Result<Self, String> {
+        const EXPECTED: &str = "product or average:SHARE (SHARE the colour cue's share, 0..=1)";
+        match choice(text, &["product", "average"], EXPECTED)? {
+            ("product", None) => Ok(CueMix::Product),
+            ("average", Some(share)) => Ok(CueMix::Average(Q16::parse(share)?)),
+            _ => Err(format!("expected {EXPECTED}, got {text:?}")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        Value::from(match self {
+            CueMix::Product => "product".to_string(),
+            CueMix::Average(share) => format!("average:{}", share.to_json()),
+        })
+    }
+}
+
+impl FieldValue for Readout {
+    fn parse(text: &str) -> Result<Self, String> {
+        const EXPECTED: &str = "mean, best or robust_mean:RADIUS (RADIUS in px)";
+        match choice(text, &["mean", "best", "robust_mean"], EXPECTED)? {
+            ("mean", None) => Ok(Readout::Mean),
+            ("best", None) => Ok(Readout::Best),
+            ("robust_mean", Some(radius)) => Ok(Readout::RobustMean(Q16::parse(radius)?)),
+            _ => Err(format!("expected {EXPECTED}, got {text:?}")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        Value::from(match self {
+            Readout::Mean => "mean".to_string(),
+            Readout::Best => "best".to_string(),
+            Readout::RobustMean(radius) => format!("robust_mean:{}", radius.to_json()),
+        })
+    }
+}
+
+/// Resampling schemes by name.
+const SCHEMES: [(&str, Scheme); 4] = [
+    ("multinomial", Scheme::Multinomial),
+    ("systematic", Scheme::Systematic),
+    ("stratified", Scheme::Stratified),
+    ("residual", Scheme::Residual),
+];
+
+impl FieldValue for Scheme {
+    fn parse(text: &str) -> Result<Self, String> {
+        let names = SCHEMES.map(|(n, _)| n);
+        let expected = names.join(", ");
+        let (name, arg) = choice(text, &names, &expected)?;
+        match (SCHEMES.iter().find(|(n, _)| *n == name), arg) {
+            (Some((_, scheme)), None) => Ok(*scheme),
+            _ => Err(format!("expected {expected}, got {text:?}")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        Value::from(
+            SCHEMES
+                .iter()
+                .find(|(_, s)| s == self)
+                .map_or("?", |(n, _)| *n),
+        )
+    }
+}
+
+/// One `FIELD=VALUE` setting, checked: the field exists and the value parses.
+#[derive(Clone, Debug)]
+pub struct Setting {
+    /// The field.
+    pub field: &'static Field,
+    /// The value as written.
+    pub value: String,
+}
+
+impl Setting {
+    /// The setting of field `name` to `value`; the error names the field.
+    pub fn new(name: &str, value: &str) -> Result<Self, String> {
+        let field = Field::named(name.trim()).ok_or_else(|| {
+            let names: Vec<&str> = FIELDS.iter().map(|f| f.name).collect();
+            format!(
+                "unknown configuration field `{}` (fields: {})",
+                name.trim(),
+                names.join(", ")
+            )
+        })?;
+        field.set(&mut Config::new(Variant::Rbpf), value)?;
+        Ok(Self {
+            field,
+            value: value.trim().to_string(),
+        })
+    }
+}
+
+impl FromStr for Setting {
+    type Err = String;
+
+    /// Reads `FIELD=VALUE`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (name, value) = s
+            .split_once('=')
+            .ok_or_else(|| format!("expected FIELD=VALUE, got {s:?}"))?;
+        Self::new(name, value)
+    }
+}
+
+/// The settings of a TOML file (`colour_sigma = 0.15`, `cue_mix = "average:0.5"`), in
+/// the file's order; the error names the file and the field.
+pub fn read_toml(path: &Path) -> Result<Vec<Setting>, String> {
+    let at = |e: &dyn fmt::Display| format!("{}: {e}", path.display());
+    let text = std::fs::read_to_string(path).map_err(|e| at(&e))?;
+    let table: toml::Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| at(&e.message()))?;
+    table
+        .iter()
+        .map(|(name, value)| {
+            let text = match value {
+                toml::Value::String(s) => s.clone(),
+                toml::Value::Integer(i) => i.to_string(),
+                toml::Value::Float(f) => f.to_string(),
+                other => {
+                    return Err(at(&format!(
+                        "`{name}`: expected a number or a string, got {}",
+                        other.type_str()
+                    )))
+                }
+            };
+            Setting::new(name, &text).map_err(|e| at(&e))
+        })
+        .collect()
+}
+
+/// Settings in the order they apply (a later one wins): a `--config` file's, then the
+/// command line's `--set`s.
+#[derive(Clone, Debug, Default)]
+pub struct Overrides(pub Vec<Setting>);
+
+impl Overrides {
+    /// The last value given for field `name`, parsed.
+    pub fn value<T: FieldValue>(&self, name: &str) -> Option<T> {
+        let setting = self.0.iter().rev().find(|s| s.field.name == name)?;
+        T::parse(&setting.value).ok()
+    }
+
+    /// `Config::new(variant)` with every setting applied, then `variant` and `seed`
+    /// imposed, checked by [`Config::validate`].
+    pub fn config(&self, variant: Variant, seed: u64) -> Result<Config, String> {
+        let mut config = Config::new(variant);
+        for s in &self.0 {
+            s.field.set(&mut config, &s.value)?;
+        }
+        config.variant = variant;
+        config.seed = seed;
+        config.validate().map_err(|e| e.to_string())?;
+        Ok(config)
+    }
+}
+
+/// The fields of `config` that differ from `Config::new(config.variant)` (the seed left
+/// out), as `FIELD=VALUE`.
+pub fn changed_fields(config: &Config) -> Vec<String> {
+    let default = Config::new(config.variant);
+    FIELDS
+        .iter()
+        .filter(|f| f.name != "seed" && f.get(config) != f.get(&default))
+        .map(|f| format!("{}={}", f.name, f.text(config)))
+        .collect()
+}
+
+/// A [`Config`] serialised as a JSON object of every field, in [`FIELDS`] order.
+#[derive(Clone, Copy, Debug)]
+pub struct ConfigJson<'a>(pub &'a Config);
+
+impl Serialize for ConfigJson<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(FIELDS.len()))?;
+        for f in FIELDS {
+            map.serialize_entry(f.name, &f.get(self.0))?;
+        }
+        map.end()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The top-level field names of a `Config`, read from its pretty `Debug` output (one
+    /// `name: value` line per field, indented by four spaces).
+    fn debug_field_names(config: &Config) -> Vec<String> {
+        format!("{config:#?}")
+            .lines()
+            .filter_map(|line| {
+                let rest = line.strip_prefix("    ")?;
+                let (name, _) = rest.split_once(':')?;
+                (!rest.starts_with(' ')
+                    && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+                .then(|| name.to_string())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_table_covers_every_config_field() {
+        let names = debug_field_names(&Config::new(Variant::Rbpf));
+        assert!(
+            names.len() >= 20,
+            "read {names:?} from Config's Debug output"
+        );
+        let missing: Vec<&String> = names.iter().filter(|n| Field::named(n).is_none()).collect();
+        assert!(
+            missing.is_empty(),
+            "Config fields without an entry in config_fields::FIELDS: {missing:?}"
+        );
+        assert_eq!(names.len(), FIELDS.len(), "{names:?}");
+    }
+
+    #[test]
+    fn every_value_reads_back_as_printed() {
+        let mut config = Config::new(Variant::ColourPf);
+        config.cue_mix = CueMix::Average(Q16::from_f64(0.3));
+        config.readout = Readout::RobustMean(Q16::from_int(8));
+        config.resampling = Scheme::Residual;
+        config.scale_per_row = Q16::from_f64(-0.1234);
+        config.seed = u64::MAX;
+        for base in [config, Config::new(Variant::Rbpf)] {
+            let mut copy = Config::new(Variant::Rbpf);
+            for f in FIELDS {
+                f.set(&mut copy, &f.text(&base)).unwrap();
+            }
+            assert_eq!(copy, base);
+        }
+        assert_eq!(FIELDS[0].text(&config), "pf");
+        let text = |name: &str| Field::named(name).unwrap().text(&config);
+        assert_eq!(text("colour_sigma"), "0.2");
+        assert_eq!(text("cue_mix"), "average:0.3");
+        assert_eq!(text("readout"), "robust_mean:8.0");
+        assert_eq!(text("resampling"), "residual");
+        assert_eq!(text("pixels_per_window"), "300");
+    }
+
+    #[test]
+    fn settings_parse_and_errors_name_the_field() {
+        let s: Setting = "scale_per_row=0.1".parse().unwrap();
+        let mut config = Config::new(Variant::Rbpf);
+        s.field.set(&mut config, &s.value).unwrap();
+        assert_eq!(config.scale_per_row, Q16::from_f64(0.1));
+        for (text, named) in [
+            ("no_such_field=1", "`no_such_field`"),
+            ("colour_sigma=abc", "`colour_sigma`"),
+            ("gradient_points=300", "`gradient_points`"),
+            ("cue_mix=average", "`cue_mix`"),
+            ("readout=robust_mean:x", "`readout`"),
+            ("resampling=fancy", "`resampling`"),
+            ("scale_per_row=1e9", "`scale_per_row`"),
+            ("colour_sigma", "FIELD=VALUE"),
+        ] {
+            let e = text.parse::<Setting>().unwrap_err();
+            assert!(e.contains(named), "{text}: {e}");
+            assert_eq!(e.lines().count(), 1, "{e}");
+        }
+        for (text, mix) in [
+            ("cue_mix=product", CueMix::Product),
+            ("cue_mix=Average:0.5", CueMix::Average(Q16::HALF)),
+        ] {
+            let s: Setting = text.parse().unwrap();
+            s.field.set(&mut config, &s.value).unwrap();
+            assert_eq!(config.cue_mix, mix);
+        }
+    }
+
+    #[test]
+    fn overrides_apply_in_order_and_validate() {
+        let o = Overrides(vec![
+            "colour_sigma=0.5".parse().unwrap(),
+            "colour_sigma=0.15".parse().unwrap(),
+            "variant=pf".parse().unwrap(),
+            "seed=9".parse().unwrap(),
+        ]);
+        assert_eq!(o.value::<Variant>("variant"), Some(Variant::ColourPf));
+        assert_eq!(o.value::<u64>("seed"), Some(9));
+        let c = o.config(Variant::Rbpf, 3).unwrap();
+        assert_eq!(c.colour_sigma, Q16::from_f64(0.15));
+        assert_eq!((c.variant, c.seed), (Variant::Rbpf, 3));
+        assert_eq!(changed_fields(&c), ["colour_sigma=0.15"]);
+        let bad = Overrides(vec!["lost_below=0.9".parse().unwrap()]);
+        let e = bad.config(Variant::Rbpf, 1).unwrap_err();
+        assert!(e.contains("lost_below"), "{e}");
+    }
+
+    #[test]
+    fn json_lists_every_field_in_order() {
+        let json = serde_json::to_value(ConfigJson(&Config::new(Variant::Rbpf))).unwrap();
+        let map = json.as_object().unwrap();
+        assert_eq!(map.len(), FIELDS.len());
+        assert_eq!(map["cue_mix"], "product");
+        assert_eq!(map["colour_sigma"], 0.2);
+        let text = serde_json::to_string(&ConfigJson(&Config::new(Variant::Rbpf))).unwrap();
+        assert!(
+            text.starts_with("{\"variant\":\"rbpf\",\"seed\":1,"),
+            "{text}"
+        );
+    }
+}
