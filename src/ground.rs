@@ -7,7 +7,8 @@
 //! [`GroundPlane::observe`] adds an estimate with exponential forgetting (each sample's
 //! weight falls by 1/64 per new sample, so about the last 64 count), and
 //! [`GroundPlane::slope`] gives `k` once the fit deserves trust: enough samples, rows
-//! spread over at least the target's half-height (standard deviation), and a correlation
+//! spread over at least a given distance (standard deviation; the tracker asks a quarter
+//! of the target's half-height), and a correlation
 //! `r^2 >= 1/2` (a hand-held or aerial camera, where size does not follow the row, never
 //! gets there).
 //!

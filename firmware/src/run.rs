@@ -7,7 +7,9 @@
 use crate::scene::{self, FRAMES, HEIGHT, WIDTH};
 use rbtrack::image::{Binning, ImageView, Rgb565Le, Rgb8x8x8};
 use rbtrack::profile::{CycleCounter, StageCycles};
-use rbtrack::tracker::{Config, ConfigError, Estimate, Status, Tracker, Variant};
+use rbtrack::tracker::{
+    max_pixels_per_step, Config, ConfigError, Estimate, Status, Tracker, Variant,
+};
 use rbtrack::window::Ellipse;
 
 /// Particles of both trackers.
@@ -32,9 +34,9 @@ pub fn config(variant: Variant) -> Config {
 }
 
 /// The pixels one step of `variant` may read, the core's documented bound
-/// `(N + 6) x pixels_per_window`; the firmware fails if a frame exceeds it.
+/// [`max_pixels_per_step`]; the firmware fails if a frame exceeds it.
 pub fn pixel_bound(variant: Variant) -> u32 {
-    (PARTICLES as u32 + 6) * config(variant).pixels_per_window
+    max_pixels_per_step(PARTICLES, config(variant).pixels_per_window) as u32
 }
 
 /// Stack the firmware may use, bytes: the run (tracker and frame state in `main`'s frame)

@@ -10,8 +10,10 @@
 use arbitrary::Arbitrary;
 use rbtrack::fixed::Q16;
 use rbtrack::resample::Scheme;
-use rbtrack::tracker::{Config, CueMix, Estimate, Readout, Variant};
-use rbtrack::window::{Ellipse, MAX_CAP};
+use rbtrack::tracker::{
+    max_pixels_per_step, Config, CueMix, Estimate, Readout, SizeMeasurement, Variant,
+};
+use rbtrack::window::Ellipse;
 
 /// Largest frame buffer a spec builds, bytes (the rest of a bigger frame is left out, so
 /// `ImageView::new` rejects it as too short).
@@ -332,6 +334,16 @@ pub struct ConfigSpec {
     pub kalman_r: Option<Q>,
     pub scale_step: Option<Q>,
     pub min_half_axis: Option<Q>,
+    pub background_weighting: Option<bool>,
+    pub background_floor: Option<Q>,
+    pub ring_scale: Option<Q>,
+    pub split_halves: Option<bool>,
+    pub contrast_sigma: Option<Option<Q>>,
+    pub contrast_ring: Option<Q>,
+    pub size_by_likelihood: Option<bool>,
+    pub freeze_size: Option<bool>,
+    pub redetect_prior: Option<Q>,
+    pub learn_scale_per_row: Option<bool>,
 }
 
 impl ConfigSpec {
@@ -390,6 +402,28 @@ impl ConfigSpec {
         set(&mut c.kalman_r, self.kalman_r);
         set(&mut c.scale_step, self.scale_step);
         set(&mut c.min_half_axis, self.min_half_axis);
+        let flag = |field: &mut bool, v: Option<bool>| {
+            if let Some(v) = v {
+                *field = v;
+            }
+        };
+        flag(&mut c.background_weighting, self.background_weighting);
+        set(&mut c.background_floor, self.background_floor);
+        set(&mut c.ring_scale, self.ring_scale);
+        flag(&mut c.split_halves, self.split_halves);
+        if let Some(sigma) = self.contrast_sigma {
+            c.contrast_sigma = sigma.map(Q::get);
+        }
+        set(&mut c.contrast_ring, self.contrast_ring);
+        if let Some(likelihood) = self.size_by_likelihood {
+            c.size_measurement = match likelihood {
+                true => SizeMeasurement::Likelihood,
+                false => SizeMeasurement::Contrast,
+            };
+        }
+        flag(&mut c.freeze_size, self.freeze_size);
+        set(&mut c.redetect_prior, self.redetect_prior);
+        flag(&mut c.learn_scale_per_row, self.learn_scale_per_row);
         c
     }
 }
@@ -407,7 +441,7 @@ pub fn init_is_valid(init: &Ellipse, min_half_axis: Q16, width: usize, height: u
 /// Checks the documented guarantees of a step's result in a `width x height` frame:
 /// centre inside the frame, half-axes positive and at most the frame's longer side (or
 /// `min_half_axis` if that is larger), confidence in `[0, 1]`, and at most
-/// `(n + 6) * min(pixels_per_window, MAX_CAP)` pixels read.
+/// `max_pixels_per_step(n, pixels_per_window)` pixels read.
 pub fn check_estimate(
     e: &Estimate,
     config: &Config,
@@ -437,9 +471,9 @@ pub fn check_estimate(
         );
     }
     assert!(e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE);
-    let cap = config.pixels_per_window.min(MAX_CAP) as u64;
+    let bound = max_pixels_per_step(n, config.pixels_per_window);
     assert!(
-        pixels_visited as u64 <= (n as u64 + 6) * cap,
-        "{pixels_visited} pixels, N = {n}, cap {cap}"
+        pixels_visited as u64 <= bound,
+        "{pixels_visited} pixels, N = {n}, bound {bound}"
     );
 }

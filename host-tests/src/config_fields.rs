@@ -12,7 +12,7 @@
 
 use rbtrack::fixed::Q16;
 use rbtrack::resample::Scheme;
-use rbtrack::tracker::{Config, CueMix, Readout, Variant};
+use rbtrack::tracker::{Config, CueMix, Readout, SizeMeasurement, Variant};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde_json::Value;
 use std::fmt;
@@ -111,6 +111,16 @@ fields! {
     kalman_r,
     scale_step,
     min_half_axis,
+    background_weighting,
+    background_floor,
+    ring_scale,
+    split_halves,
+    contrast_sigma,
+    contrast_ring,
+    size_measurement,
+    freeze_size,
+    redetect_prior,
+    learn_scale_per_row,
 }
 
 fn whole<T: FromStr + fmt::Display>(text: &str, max: T) -> Result<T, String> {
@@ -185,6 +195,54 @@ fn choice<'a>(
         .find(|c| c.eq_ignore_ascii_case(name.trim()))
         .map(|c| (*c, arg))
         .ok_or_else(|| format!("expected {expected}, got {text:?}"))
+}
+
+impl FieldValue for bool {
+    fn parse(text: &str) -> Result<Self, String> {
+        match choice(text, &["true", "false"], "true or false")? {
+            ("true", None) => Ok(true),
+            ("false", None) => Ok(false),
+            _ => Err(format!("expected true or false, got {text:?}")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+/// `off`, or the value.
+impl FieldValue for Option<Q16> {
+    fn parse(text: &str) -> Result<Self, String> {
+        match text.trim().eq_ignore_ascii_case("off") {
+            true => Ok(None),
+            false => Q16::parse(text)
+                .map(Some)
+                .map_err(|e| format!("{e}, or off")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        match self {
+            Some(v) => v.to_json(),
+            None => Value::from("off"),
+        }
+    }
+}
+
+impl FieldValue for SizeMeasurement {
+    fn parse(text: &str) -> Result<Self, String> {
+        const EXPECTED: &str = "contrast or likelihood";
+        match choice(text, &["contrast", "likelihood"], EXPECTED)? {
+            ("contrast", None) => Ok(SizeMeasurement::Contrast),
+            ("likelihood", None) => Ok(SizeMeasurement::Likelihood),
+            _ => Err(format!("expected {EXPECTED}, got {text:?}")),
+        }
+    }
+    fn to_json(&self) -> Value {
+        Value::from(match self {
+            SizeMeasurement::Contrast => "contrast",
+            SizeMeasurement::Likelihood => "likelihood",
+        })
+    }
 }
 
 impl FieldValue for Variant {
@@ -322,9 +380,10 @@ pub fn read_toml(path: &Path) -> Result<Vec<Setting>, String> {
                 toml::Value::String(s) => s.clone(),
                 toml::Value::Integer(i) => i.to_string(),
                 toml::Value::Float(f) => f.to_string(),
+                toml::Value::Boolean(b) => b.to_string(),
                 other => {
                     return Err(at(&format!(
-                        "`{name}`: expected a number or a string, got {}",
+                        "`{name}`: expected a number, a boolean or a string, got {}",
                         other.type_str()
                     )))
                 }
@@ -427,7 +486,9 @@ mod tests {
         config.resampling = Scheme::Residual;
         config.scale_per_row = Q16::from_f64(-0.1234);
         config.seed = u64::MAX;
-        for base in [config, Config::new(Variant::Rbpf)] {
+        let mut paper = Config::paper(Variant::Rbpf);
+        paper.size_measurement = SizeMeasurement::Likelihood;
+        for base in [config, Config::new(Variant::Rbpf), paper] {
             let mut copy = Config::new(Variant::Rbpf);
             for f in FIELDS {
                 f.set(&mut copy, &f.text(&base)).unwrap();
@@ -436,7 +497,10 @@ mod tests {
         }
         assert_eq!(FIELDS[0].text(&config), "pf");
         let text = |name: &str| Field::named(name).unwrap().text(&config);
-        assert_eq!(text("colour_sigma"), "0.2");
+        assert_eq!(text("colour_sigma"), "0.1");
+        assert_eq!(text("contrast_sigma"), "0.2");
+        assert_eq!(text("split_halves"), "true");
+        assert_eq!(text("size_measurement"), "contrast");
         assert_eq!(text("cue_mix"), "average:0.3");
         assert_eq!(text("readout"), "robust_mean:8.0");
         assert_eq!(text("resampling"), "residual");
@@ -498,7 +562,8 @@ mod tests {
         let map = json.as_object().unwrap();
         assert_eq!(map.len(), FIELDS.len());
         assert_eq!(map["cue_mix"], "product");
-        assert_eq!(map["colour_sigma"], 0.2);
+        assert_eq!(map["colour_sigma"], 0.1);
+        assert_eq!(map["contrast_sigma"], "off");
         let text = serde_json::to_string(&ConfigJson(&Config::new(Variant::Rbpf))).unwrap();
         assert!(
             text.starts_with("{\"variant\":\"rbpf\",\"seed\":1,"),

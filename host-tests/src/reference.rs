@@ -313,12 +313,35 @@ pub struct ReferenceTracker<Bn: Binning> {
     binning: PhantomData<Bn>,
 }
 
+/// The first setting of `config` the reference does not model (it models the papers'
+/// trackers, `Config::paper`): the background-aware colour model, the object map, the
+/// contrast size measurement, the re-detection prior, the learnt ground plane, frozen
+/// sizes.
+pub fn unmodelled(config: &Config) -> Option<&'static str> {
+    let paper = Config::paper(config.variant);
+    [
+        (config.background_weighting, "background_weighting"),
+        (config.split_halves, "split_halves"),
+        (config.contrast_sigma.is_some(), "contrast_sigma"),
+        (
+            config.size_measurement != paper.size_measurement,
+            "size_measurement",
+        ),
+        (config.redetect_prior != Q16::ONE, "redetect_prior"),
+        (config.learn_scale_per_row, "learn_scale_per_row"),
+        (config.freeze_size, "freeze_size"),
+    ]
+    .into_iter()
+    .find_map(|(used, field)| used.then_some(field))
+}
+
 impl<Bn: Binning> ReferenceTracker<Bn> {
     /// Starts like `Tracker::<Bn, N, _>::new(config, frame, init)` with `n` particles.
     ///
     /// # Errors
     /// As the core: a field out of range, `n` outside `1..=65535`, or an initial ellipse
-    /// too small or centred outside the frame.
+    /// too small or centred outside the frame; and `OutOfRange` naming a setting the
+    /// reference does not model ([`unmodelled`]).
     pub fn new<P: PixelFormat>(
         config: Config,
         n: usize,
@@ -326,6 +349,9 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         init: &Ellipse,
     ) -> Result<Self, ConfigError> {
         config.validate()?;
+        if let Some(field) = unmodelled(&config) {
+            return Err(ConfigError::OutOfRange(field));
+        }
         if n == 0 || n > rbtrack::resample::MAX_PARTICLES {
             return Err(ConfigError::ParticleCount);
         }
@@ -642,30 +668,52 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         sum / self.cue.points() as f64
     }
 
-    /// Likelihood of window `e` and the window's histogram.
-    fn likelihood<P: PixelFormat>(&self, frame: &ImageView<'_, P>, e: &RefEllipse) -> f64 {
+    /// The colour and gradient (RBPF, else 0) costs of window `e`.
+    fn costs<P: PixelFormat>(&self, frame: &ImageView<'_, P>, e: &RefEllipse) -> (f64, f64) {
         let rho = self.bhattacharyya(&self.histogram(frame, e));
-        let colour_cost = cost_scale(self.config.colour_sigma) * (1.0 - rho);
-        match self.config.variant {
-            Variant::ColourPf => exp_neg(colour_cost),
+        let colour = cost_scale(self.config.colour_sigma) * (1.0 - rho);
+        let gradient = match self.config.variant {
+            Variant::ColourPf => 0.0,
             Variant::Rbpf => {
                 let miss = 1.0 - self.gradient_cue(frame, e);
-                let gradient_cost = cost_scale(self.config.gradient_sigma) * miss * miss;
-                match self.config.cue_mix {
-                    CueMix::Product => exp_neg(colour_cost + gradient_cost),
-                    CueMix::Average(a) => {
-                        let a = a.to_f64();
-                        a * exp_neg(colour_cost) + (1.0 - a) * exp_neg(gradient_cost)
-                    }
-                }
+                cost_scale(self.config.gradient_sigma) * miss * miss
             }
+        };
+        (colour, gradient)
+    }
+
+    /// The core's likelihood of costs `(colour, gradient)`: `exp(-(colour + gradient -
+    /// offset))`, or with `CueMix::Average` (RBPF) `a exp(-colour) + (1 - a)
+    /// exp(-gradient)`.
+    fn combine(&self, (colour, gradient): (f64, f64), offset: f64) -> f64 {
+        match (self.config.variant, self.config.cue_mix) {
+            (Variant::Rbpf, CueMix::Average(a)) => {
+                let a = a.to_f64();
+                a * exp_neg(colour) + (1.0 - a) * exp_neg(gradient)
+            }
+            _ => exp_neg(colour + gradient - offset),
         }
     }
 
+    /// Likelihood of window `e` (no offset: the size measurement's ranking).
+    fn likelihood<P: PixelFormat>(&self, frame: &ImageView<'_, P>, e: &RefEllipse) -> f64 {
+        self.combine(self.costs(frame, e), 0.0)
+    }
+
+    /// Weights times likelihoods, the costs shifted by the frame's smallest as in the core.
     fn weigh<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) {
-        for i in 0..self.particles.len() {
-            let e = self.particles[i].ellipse();
-            self.weights[i] *= self.likelihood(frame, &e);
+        let costs: Vec<(f64, f64)> = self
+            .particles
+            .iter()
+            .map(|p| self.costs(frame, &p.ellipse()))
+            .collect();
+        let offset = costs
+            .iter()
+            .map(|(c, g)| c + g)
+            .fold(f64::INFINITY, f64::min);
+        let likelihoods: Vec<f64> = costs.iter().map(|&c| self.combine(c, offset)).collect();
+        for (w, l) in self.weights.iter_mut().zip(likelihoods) {
+            *w *= l;
         }
         let total: f64 = self.weights.iter().sum();
         let n = self.weights.len() as f64;

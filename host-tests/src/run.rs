@@ -79,6 +79,8 @@ pub trait Run {
     fn step(&mut self, frame: &Frame) -> Result<Step, RunError>;
     /// The current estimate (the initial box's before any step).
     fn estimate(&self) -> Estimate;
+    /// The ground-plane slope in use (`Tracker::scale_per_row`), px/px.
+    fn scale_per_row(&self) -> Q16;
 }
 
 /// The ellipse of a 0-based box ([`BBox::to_ellipse_f64`]) in Q16.16.
@@ -166,6 +168,10 @@ impl<const N: usize> Run for Runner<N> {
 
     fn estimate(&self) -> Estimate {
         self.tracker.estimate()
+    }
+
+    fn scale_per_row(&self) -> Q16 {
+        self.tracker.scale_per_row()
     }
 }
 

@@ -351,11 +351,14 @@ impl Scene {
     }
 
     /// Sets what an engineer who knows this scene would tell the tracker: the ground-plane
-    /// slope (`scale_per_row`) and, since the walkers move smoothly, motion-adaptive noise
+    /// slope (`scale_per_row`) and, since the walkers move smoothly at a steady speed,
+    /// constant velocity (noise 1 px/frame, 0.95 kept) with motion-adaptive noise
     /// (`noise_gain` 2, `noise_floor` 0.15), which keeps the particles on the target's
     /// path when a look-alike crosses it. The rest of `config` is left as it is.
     pub fn configure(&self, config: &mut Config) {
         config.scale_per_row = Q16::from_f64(self.scale_per_row());
+        config.velocity_noise = Q16::ONE;
+        config.velocity_keep = Q16::from_f64(0.95);
         config.noise_gain = Q16::from_int(2);
         config.noise_floor = Q16::from_f64(0.15);
     }

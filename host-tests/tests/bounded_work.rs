@@ -1,15 +1,17 @@
-//! Bounded work (issue 7): a step never reads more than `(N + 6) x pixels_per_window`
-//! pixels into histograms (`Tracker::pixels_visited`; the tracker module doc, "Bounded
-//! work"), whatever the target size (as large as the frame, and larger), the frames and
-//! the configuration.
+//! Bounded work (issue 7): a step never reads more than
+//! `tracker::max_pixels_per_step(N, pixels_per_window)` pixels (`Tracker::pixels_visited`;
+//! the tracker module doc, "Bounded work"), whatever the target size (as large as the
+//! frame, and larger), the frames and the configuration.
 
 use proptest::prelude::*;
 use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageView, Rgb888, Rgb8x8x8};
 use rbtrack::resample::Scheme;
 use rbtrack::rng::Rng;
-use rbtrack::tracker::{Config, CueMix, Readout, Tracker, Variant};
-use rbtrack::window::{Ellipse, MAX_CAP};
+use rbtrack::tracker::{
+    max_pixels_per_step, Config, CueMix, Readout, SizeMeasurement, Tracker, Variant,
+};
+use rbtrack::window::Ellipse;
 
 /// One random run: configuration, frame size, target and frame contents.
 #[derive(Debug, Clone)]
@@ -50,12 +52,21 @@ fn config_case() -> impl Strategy<Value = Config> {
             1u32..=1024 << 16,
             1u32..=16,
         ),
+        (
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+        ),
     )
-        .prop_map(|(a, b, c, d)| {
+        .prop_map(|(a, b, c, d, e)| {
             let (rbpf, seed, cap, scheme, readout) = a;
             let (pos, rel, vel, keep) = b;
             let (resample_below, uncertain, lost_share, adapt_above, adapt_rate) = c;
             let (redetect, per_row, kq, kr, min_half) = d;
+            let (by_likelihood, contrast_cue, split, background, frozen, learn) = e;
             let q = |bits: u32| Q16::from_bits(bits as i32);
             let mut c = Config::new(if rbpf {
                 Variant::Rbpf
@@ -90,6 +101,15 @@ fn config_case() -> impl Strategy<Value = Config> {
             c.kalman_q = q(kq);
             c.kalman_r = q(kr);
             c.min_half_axis = Q16::from_int(min_half as i32);
+            c.size_measurement = match by_likelihood {
+                true => SizeMeasurement::Likelihood,
+                false => SizeMeasurement::Contrast,
+            };
+            c.contrast_sigma = contrast_cue.then_some(Q16::from_f64(0.2));
+            c.split_halves = split;
+            c.background_weighting = background;
+            c.freeze_size = frozen;
+            c.learn_scale_per_row = learn;
             if rbpf && seed % 3 == 0 {
                 c.cue_mix = CueMix::Average(Q16::HALF);
             }
@@ -157,7 +177,7 @@ fn run<const N: usize>(case: &WorkCase) -> Result<f64, TestCaseError> {
     let view = ImageView::<Rgb888>::new(&first, w, h, w).expect("frame");
     let mut tracker = Tracker::<Rgb8x8x8, N, 512>::new(case.config, &view, case.target)
         .map_err(|e| TestCaseError::fail(format!("{e}: {case:?}")))?;
-    let bound = (N as u64 + 6) * case.config.pixels_per_window.min(MAX_CAP) as u64;
+    let bound = max_pixels_per_step(N, case.config.pixels_per_window);
     let mut worst = 0.0f64;
     for &(seed, kind) in &case.frame_seeds {
         let buf = frame(w, h, seed, kind);
@@ -192,8 +212,9 @@ proptest! {
 }
 
 /// A target the size of the frame (and the largest ellipse the frame allows) with the
-/// smallest and largest caps: the bound holds and, for a small cap on a big window,
-/// is nearly reached (the bound is not loose).
+/// smallest and largest caps, in the configuration that reads the most (size by
+/// likelihood, adapting every frame, the contrast cue): the bound holds and, for a small
+/// cap on a big window, is nearly reached (the bound is not loose).
 #[test]
 fn frame_sized_target() {
     let (w, h) = (320usize, 240usize);
@@ -203,6 +224,10 @@ fn frame_sized_target() {
             for (hx, hy) in [(160.0, 120.0), (319.0, 239.0), (400.0, 400.0)] {
                 let mut config = Config::new(variant);
                 config.pixels_per_window = cap;
+                config.size_measurement = SizeMeasurement::Likelihood;
+                config.adapt_rate = Q16::from_f64(0.05);
+                config.adapt_above = Q16::ZERO;
+                config.contrast_sigma = Some(Q16::from_f64(0.2));
                 let target = Ellipse::new(
                     Q16::from_f64(159.5),
                     Q16::from_f64(119.5),
@@ -213,7 +238,7 @@ fn frame_sized_target() {
                 let view = ImageView::<Rgb888>::new(&first, w, h, w).expect("frame");
                 let mut tracker =
                     Tracker::<Rgb8x8x8, 20, 512>::new(config, &view, target).expect("starts");
-                let bound = 26 * cap.min(MAX_CAP) as u64;
+                let bound = max_pixels_per_step(20, cap);
                 for seed in 0..5 {
                     let buf = frame(w, h, seed, (seed % 3) as u8);
                     let view = ImageView::<Rgb888>::new(&buf, w, h, w).expect("frame");

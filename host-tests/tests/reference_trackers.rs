@@ -3,7 +3,8 @@
 //! particles; the estimates may differ only by arithmetic.
 //!
 //! Acceptance: over 100 frames of the perspective scene (seeds 1..=3 for the scene and the
-//! tracker, 100 particles, the scene's settings: `Scene::configure`), the fixed-point centre stays
+//! tracker, 100 particles, the papers' trackers `Config::paper` with the scene's settings:
+//! `Scene::configure`), the fixed-point centre stays
 //! within 0.5 px of the reference's on every frame. The reference adopts the core's
 //! discrete choices, its resampling ancestry and the RBPF's measured scale
 //! (`step_following`; see the `reference` module docs for why a reference making its own
@@ -65,7 +66,7 @@ impl Differences {
 fn compare(variant: Variant, seed: u64) -> Differences {
     let scene = Scene::new(SceneConfig::new(scene::Variant::Perspective, seed)).unwrap();
     let (w, h) = (scene.width() as usize, scene.height() as usize);
-    let mut config = Config::new(variant);
+    let mut config = Config::paper(variant);
     config.seed = seed;
     scene.configure(&mut config);
     let init = ellipse_of(&scene.boxes()[0]);

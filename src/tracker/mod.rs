@@ -28,8 +28,12 @@
 //! 5. **Resample** when the effective sample size is below `resample_below * N`.
 //!
 //! # Bounded work
-//! A step visits at most `(N + 6) * pixels_per_window` pixels: `N` particle windows, one
-//! estimate window and, for the RBPF, five scale windows; the RBPF's gradient cue reads
+//! A step visits at most [`max_pixels_per_step`]`(N, pixels_per_window)` =
+//! `(N + 10) * cap + 2 * map::SIDE^2` pixels (`cap` the pixel cap lowered to
+//! [`crate::window::MAX_CAP`]): `N` particle windows, the estimate's window, five scale
+//! windows (RBPF, size by likelihood), the adaptation's whole window, halves and ring (a
+//! ring samples twice the cap), and at most two object maps of `SIDE^2` cells; the RBPF's
+//! gradient cue reads
 //! `(N + 5) * gradient_points * (2 * gradient_search + 1)` 5-tap gradients on top, at
 //! most (the particles' samples of one boundary point repeat pixels, and each pixel's
 //! gradient is computed once per frame while it stays in the memo).
@@ -84,10 +88,18 @@ use crate::resample::{
     effective_sample_size_at_least, normalise, replicate, resample, Normalised, WEIGHT_TOTAL,
 };
 use crate::rng::Rng;
-use crate::window::Ellipse;
+use crate::window::{Ellipse, MAX_CAP};
 use config::Derived;
 use core::marker::PhantomData;
 use particle::{predict_leaf, scale_randomly, Bounds, Motion};
+
+/// The most pixels a step of `particles` particles with a pixel cap of `cap` px reads
+/// (see "Bounded work" in the module documentation), px.
+pub const fn max_pixels_per_step(particles: usize, cap: u32) -> u64 {
+    let cap = if cap < MAX_CAP { cap } else { MAX_CAP } as u64;
+    let map_cells = (crate::map::SIDE * crate::map::SIDE) as u64;
+    (particles as u64 + 10) * cap + 2 * map_cells
+}
 
 /// The scales tried when measuring the size: `1 + k scale_step` for these `k`, the
 /// unchanged size first (it wins a tie).
@@ -326,7 +338,10 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// [`Config::learn_scale_per_row`]), else [`Config::scale_per_row`].
     pub fn scale_per_row(&self) -> Q16 {
         let learnt = match self.config.learn_scale_per_row {
-            true => self.ground.slope(self.last_confident.hy),
+            // Rows spread over a quarter of the half-height at least (standard deviation).
+            true => self
+                .ground
+                .slope(Q16::from_bits(self.last_confident.hy.to_bits() >> 2)),
             false => None,
         };
         learnt.unwrap_or(self.config.scale_per_row)
@@ -361,7 +376,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.scale_factor
     }
 
-    /// Pixels read into histograms in the last step (`<= (N + 6) * pixels_per_window`).
+    /// Pixels read in the last step (`<= max_pixels_per_step(N, pixels_per_window)`).
     pub fn pixels_visited(&self) -> u32 {
         self.pixels_visited
     }
