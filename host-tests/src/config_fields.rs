@@ -393,10 +393,30 @@ pub fn read_toml(path: &Path) -> Result<Vec<Setting>, String> {
         .collect()
 }
 
-/// Settings in the order they apply (a later one wins): a `--config` file's, then the
-/// command line's `--set`s.
+/// The configuration settings start from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Preset {
+    /// `Config::new`: the defaults.
+    #[default]
+    Default,
+    /// `Config::paper`: the source papers' trackers.
+    Paper,
+}
+
+impl Preset {
+    /// The preset's configuration of `variant`.
+    pub fn config(self, variant: Variant) -> Config {
+        match self {
+            Preset::Default => Config::new(variant),
+            Preset::Paper => Config::paper(variant),
+        }
+    }
+}
+
+/// Settings in the order they apply (a later one wins) on top of a preset: a `--config`
+/// file's, then the command line's `--set`s.
 #[derive(Clone, Debug, Default)]
-pub struct Overrides(pub Vec<Setting>);
+pub struct Overrides(pub Vec<Setting>, pub Preset);
 
 impl Overrides {
     /// The last value given for field `name`, parsed.
@@ -408,7 +428,7 @@ impl Overrides {
     /// `Config::new(variant)` with every setting applied, then `variant` and `seed`
     /// imposed, checked by [`Config::validate`].
     pub fn config(&self, variant: Variant, seed: u64) -> Result<Config, String> {
-        let mut config = Config::new(variant);
+        let mut config = self.1.config(variant);
         for s in &self.0 {
             s.field.set(&mut config, &s.value)?;
         }
@@ -539,19 +559,30 @@ mod tests {
 
     #[test]
     fn overrides_apply_in_order_and_validate() {
-        let o = Overrides(vec![
-            "colour_sigma=0.5".parse().unwrap(),
-            "colour_sigma=0.15".parse().unwrap(),
-            "variant=pf".parse().unwrap(),
-            "seed=9".parse().unwrap(),
-        ]);
+        let o = Overrides(
+            vec![
+                "colour_sigma=0.5".parse().unwrap(),
+                "colour_sigma=0.15".parse().unwrap(),
+                "variant=pf".parse().unwrap(),
+                "seed=9".parse().unwrap(),
+            ],
+            Preset::Default,
+        );
         assert_eq!(o.value::<Variant>("variant"), Some(Variant::ColourPf));
         assert_eq!(o.value::<u64>("seed"), Some(9));
         let c = o.config(Variant::Rbpf, 3).unwrap();
         assert_eq!(c.colour_sigma, Q16::from_f64(0.15));
         assert_eq!((c.variant, c.seed), (Variant::Rbpf, 3));
         assert_eq!(changed_fields(&c), ["colour_sigma=0.15"]);
-        let bad = Overrides(vec!["lost_below=0.9".parse().unwrap()]);
+        let bad = Overrides(vec!["lost_below=0.9".parse().unwrap()], Preset::Default);
+        let e = bad.config(Variant::Rbpf, 1).unwrap_err();
+        assert!(e.contains("lost_below"), "{e}");
+        let paper = Overrides(vec!["seed=2".parse().unwrap()], Preset::Paper);
+        assert_eq!(paper.config(Variant::Rbpf, 2).unwrap(), {
+            let mut c = Config::paper(Variant::Rbpf);
+            c.seed = 2;
+            c
+        });
         let e = bad.config(Variant::Rbpf, 1).unwrap_err();
         assert!(e.contains("lost_below"), "{e}");
     }

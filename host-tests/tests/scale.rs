@@ -5,7 +5,7 @@
 //! ground-plane slope, learnt online, on the perspective scene whose slope is known.
 
 use rbtrack::fixed::Q16;
-use rbtrack::tracker::{Config, Variant};
+use rbtrack::tracker::Variant;
 use rbtrack_host::metrics::BBox;
 use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::run::{bbox_of, start, track, Options};
@@ -128,6 +128,4 @@ fn rbpf_learns_the_ground_plane_on_the_perspective_scene() {
             "seed {seed}: {k} against {want}"
         );
     }
-    let without = Config::new(Variant::Rbpf);
-    assert!(without.learn_scale_per_row, "learning is the default");
 }

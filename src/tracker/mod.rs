@@ -702,6 +702,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         }
         self.scale_factor = Some(factor);
         let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+        // The slope is learnt from measured sizes (not from estimates, which already
+        // follow the slope's own prediction), while tracking.
+        if self.config.learn_scale_per_row && self.estimate.status == Status::Tracking {
+            self.ground.observe(mean.cy, hy);
+        }
         let y = [hy, hx];
         for p in self.particles.iter_mut() {
             gain.update_mean(&mut p.leaf, y);
@@ -781,10 +786,6 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         };
         if estimate.status == Status::Tracking {
             self.last_confident = estimate.ellipse;
-            if self.config.learn_scale_per_row {
-                self.ground
-                    .observe(estimate.ellipse.cy, estimate.ellipse.hy);
-            }
             self.motion_spread = Some(self.next_spread(&estimate));
         } else {
             self.motion_spread = None;

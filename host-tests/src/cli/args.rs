@@ -3,7 +3,7 @@
 
 use super::input::RawLayout;
 use super::TrackerKind;
-use crate::config_fields::Setting;
+use crate::config_fields::{Preset, Setting};
 use crate::metrics::BBox;
 use crate::pixels::Format;
 use crate::run::PARTICLE_COUNTS;
@@ -90,6 +90,10 @@ pub struct ConfigArgs {
     /// --set wins over it
     #[arg(long = "config", value_name = "FILE")]
     pub config: Option<PathBuf>,
+    /// The configuration the file and --set apply to: default (the defaults) or paper
+    /// (the source papers' trackers, Config::paper)
+    #[arg(long, value_enum, value_name = "P", default_value = "default")]
+    pub preset: Preset,
 }
 
 /// Which way box files count pixels.

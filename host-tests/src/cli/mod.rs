@@ -150,7 +150,7 @@ pub(crate) fn overrides(args: &ConfigArgs) -> Result<Overrides, Failure> {
         None => Vec::new(),
     };
     settings.extend(args.set.iter().cloned());
-    Ok(Overrides(settings))
+    Ok(Overrides(settings, args.preset))
 }
 
 /// The configuration of `tracker` with `seed` under `overrides`, checked; the error names
