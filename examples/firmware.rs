@@ -323,8 +323,8 @@ mod firmware {
         let Some(mut cp) = cortex_m::Peripherals::take() else {
             panic!("peripherals taken twice");
         };
-        let Some(frame) = board::frame_buffer() else {
-            panic!("frame buffer taken twice");
+        let Some((frame, tracker)) = board::statics() else {
+            panic!("frame buffer and tracker taken twice");
         };
         hprintln!(
             "rbtrack example firmware: {}x{} RGB565 scene, seed {}, {} frames; N = {}, {} bins",
@@ -390,7 +390,9 @@ mod firmware {
             checksum: Checksum::new(),
             totals: Totals::default(),
         };
-        let checksum = match run::run_all(&mut frame[..], &mut counter, |v, r| table.frame(v, r)) {
+        let checksum = match run::run_all(tracker, &mut frame[..], &mut counter, |v, r| {
+            table.frame(v, r)
+        }) {
             Ok(checksum) => checksum,
             Err(e) => panic!("tracker configuration: {e}"),
         };

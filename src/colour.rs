@@ -111,6 +111,21 @@ impl<const B: usize> ColourModel<B> {
         &self.settings
     }
 
+    /// Empties the model in place and takes `settings` (what [`ColourModel::new`] gives,
+    /// without a model-sized value on the stack).
+    pub fn configure(&mut self, settings: ColourSettings) {
+        self.settings = settings;
+        self.whole.clear();
+        for half in self.halves.iter_mut() {
+            half.clear();
+        }
+        for table in self.weighted.iter_mut() {
+            table.fill(0);
+        }
+        self.surroundings.fill(0);
+        self.object_prob.fill(OBJECT_PRIOR);
+    }
+
     /// Learns the model from the window `e` of `img` and the ring around it, replacing
     /// what it knew; `scratch` holds the histograms on the way. Returns the pixels read
     /// (the whole window, its halves and the ring).
@@ -120,9 +135,7 @@ impl<const B: usize> ColourModel<B> {
         e: &Ellipse,
         scratch: &mut [Histogram<B>; 2],
     ) -> u32 {
-        self.whole = Model::new();
-        self.halves = [Model::new(), Model::new()];
-        self.surroundings = [0; B];
+        self.configure(self.settings);
         self.adapt::<Bn, P>(img, e, scratch, Q16::ONE)
     }
 

@@ -129,6 +129,16 @@ pub struct GradientCue {
 }
 
 impl GradientCue {
+    /// A cue of no boundary points (every window's cue is 0), before one is configured.
+    pub const UNSET: Self = Self {
+        cos: [Q16::ZERO; MAX_POINTS],
+        sin: [Q16::ZERO; MAX_POINTS],
+        points: 0,
+        search: 0,
+        saturation: 1,
+        recip: 0,
+    };
+
     /// Checks `config` and tabulates the `K` angles (the only floating point, via libm).
     pub fn new(config: &GradientConfig) -> Result<Self, ConfigError> {
         if !(1..=MAX_POINTS).contains(&config.points) {

@@ -480,6 +480,12 @@ impl<const B: usize> Model<B> {
         m
     }
 
+    /// Empties the model in place.
+    pub fn clear(&mut self) {
+        self.q.fill(0);
+        self.sqrt_q.fill(0);
+    }
+
     /// Replaces the model with `hist`'s normalised counts.
     pub fn set(&mut self, hist: &Histogram<B>) {
         self.q = [0; B];

@@ -814,6 +814,19 @@ pub struct SharedCovariance {
 }
 
 impl SharedCovariance {
+    /// Unit covariances and noise, before one is configured.
+    pub const UNSET: Self = {
+        let unit = Sym2::diagonal(Q16::ONE, Q16::ONE);
+        match Self::new(
+            unit,
+            unit,
+            BlockNoise::diagonal([Q16::ONE; 4], [Q16::ONE; 2]),
+        ) {
+            Ok(c) => c,
+            Err(_) => panic!("unit covariances are positive definite"),
+        }
+    };
+
     /// Starts from the block covariances `cov_y` of `(Hy, dHy)` and `cov_x` of `(Hx, dHx)`
     /// (Q16.16). Rejects a noise or a covariance that is not positive semidefinite.
     pub const fn new(cov_y: Sym2, cov_x: Sym2, noise: BlockNoise) -> Result<Self, KalmanError> {

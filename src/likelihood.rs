@@ -48,6 +48,9 @@ pub fn exp_neg(cost: Q16) -> u32 {
 pub struct CostScale(Q16);
 
 impl CostScale {
+    /// Every distance costs nothing.
+    pub const ZERO: Self = Self(Q16::ZERO);
+
     /// From the cue's sigma (dimensionless, in `[0.01, 10]`); `None` outside that range or
     /// for NaN. Configuration time only.
     pub fn from_sigma(sigma: f64) -> Option<Self> {

@@ -11,12 +11,13 @@
 //! [`calibrate`] measures that ratio on a loop of known length, and [`SysTick`] turns
 //! ticks into instructions with it.
 
-use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{DCB, DWT, SYST};
 use rbtrack::profile::CycleCounter;
 
+use crate::run::FirmwareTracker;
 use crate::scene::FRAME_BYTES;
+use static_cell::ConstStaticCell;
 
 /// SysTick's reload value: the full 24-bit range.
 const SYST_RELOAD: u32 = 0x00FF_FFFF;
@@ -119,16 +120,13 @@ pub fn calibrate(iterations: u32) -> (u32, u32) {
     (2 * iterations, ticks)
 }
 
-/// The frame buffer, in `.bss`: handed out once, `None` afterwards.
-pub fn frame_buffer() -> Option<&'static mut [u8; FRAME_BYTES]> {
-    static TAKEN: AtomicBool = AtomicBool::new(false);
-    static mut FRAME: [u8; FRAME_BYTES] = [0; FRAME_BYTES];
-    if TAKEN.swap(true, Ordering::AcqRel) {
-        return None;
-    }
-    // SAFETY: `TAKEN` lets exactly one caller through, so this is the only reference.
-    #[allow(unsafe_code)]
-    Some(unsafe { &mut *core::ptr::addr_of_mut!(FRAME) })
+/// The frame buffer and the tracker, built at compile time in `.bss`/`.data` (never on
+/// the stack): handed out once, `None` afterwards.
+pub fn statics() -> Option<(&'static mut [u8; FRAME_BYTES], &'static mut FirmwareTracker)> {
+    static FRAME: ConstStaticCell<[u8; FRAME_BYTES]> = ConstStaticCell::new([0; FRAME_BYTES]);
+    static TRACKER: ConstStaticCell<FirmwareTracker> =
+        ConstStaticCell::new(FirmwareTracker::unstarted());
+    Some((FRAME.try_take()?, TRACKER.try_take()?))
 }
 
 /// The stack's extent and its high-water mark.

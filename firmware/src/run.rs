@@ -39,10 +39,10 @@ pub fn pixel_bound(variant: Variant) -> u32 {
     max_pixels_per_step(PARTICLES, config(variant).pixels_per_window) as u32
 }
 
-/// Stack the firmware may use, bytes: the run (tracker and frame state in `main`'s frame)
-/// plus headroom. The firmware paints the stack at reset and fails if the high-water mark
-/// after the run is above this.
-pub const STACK_BUDGET_BYTES: u32 = 96 * 1024;
+/// Stack the firmware may use, bytes: the run's frames (the tracker and the frame buffer
+/// are statics, never on the stack). The firmware paints the stack at reset and fails if
+/// the high-water mark after the run is above this.
+pub const STACK_BUDGET_BYTES: u32 = 16 * 1024;
 
 /// 64-bit FNV-1a over every estimate's fields, as little-endian 32-bit words.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,8 +114,8 @@ pub struct FrameReport {
 /// The trackers in the order [`run_all`] runs them.
 pub const VARIANTS: [Variant; 2] = [Variant::Rbpf, Variant::ColourPf];
 
-/// Runs `variant` over the scene: renders frame 0 into `buf`, starts the tracker on the
-/// true ellipse, then renders and steps frames `1..=FRAMES`, timing each step with
+/// Runs `variant` over the scene: renders frame 0 into `buf`, starts `tracker` in place
+/// on the true ellipse, then renders and steps frames `1..=FRAMES`, timing each step with
 /// `counter` and handing each frame to `report`.
 ///
 /// # Errors
@@ -125,12 +125,13 @@ pub const VARIANTS: [Variant; 2] = [Variant::Rbpf, Variant::ColourPf];
 /// If `buf` is shorter than [`scene::FRAME_BYTES`].
 pub fn run<C: CycleCounter>(
     variant: Variant,
+    tracker: &mut FirmwareTracker,
     buf: &mut [u8],
     mut counter: C,
     mut report: impl FnMut(&FrameReport),
 ) -> Result<(), ConfigError> {
     scene::render(scene::SEED, 0, buf);
-    let mut tracker = FirmwareTracker::new(config(variant), &view(buf), scene::truth(0))?;
+    tracker.start(config(variant), &view(buf), scene::truth(0))?;
     for frame in 1..=FRAMES {
         scene::render(scene::SEED, frame, buf);
         let (estimate, cycles) = tracker.step_profiled(&view(buf), &mut counter);
@@ -145,7 +146,8 @@ pub fn run<C: CycleCounter>(
     Ok(())
 }
 
-/// Runs every tracker of [`VARIANTS`] in turn ([`run`]) and returns the checksum over all
+/// Runs every tracker of [`VARIANTS`] in turn in `tracker` ([`run`]) and returns the
+/// checksum over all
 /// their estimates, in run order: the figure the firmware and the host test compare.
 ///
 /// # Errors
@@ -154,13 +156,14 @@ pub fn run<C: CycleCounter>(
 /// # Panics
 /// If `buf` is shorter than [`scene::FRAME_BYTES`].
 pub fn run_all<C: CycleCounter>(
+    tracker: &mut FirmwareTracker,
     buf: &mut [u8],
     mut counter: C,
     mut report: impl FnMut(Variant, &FrameReport),
 ) -> Result<Checksum, ConfigError> {
     let mut checksum = Checksum::new();
     for variant in VARIANTS {
-        run(variant, buf, &mut counter, |r| {
+        run(variant, tracker, buf, &mut counter, |r| {
             checksum.add(&r.estimate);
             report(variant, r);
         })?;
@@ -219,12 +222,17 @@ mod tests {
     #[test]
     fn checksum_covers_both_runs() {
         let mut buf = [0u8; scene::FRAME_BYTES];
+        let mut tracker = FirmwareTracker::unstarted();
         let mut frames = 0;
-        let all = run_all(&mut buf, NoCounter, |_, _| frames += 1).unwrap();
+        let all = run_all(&mut tracker, &mut buf, NoCounter, |_, _| frames += 1).unwrap();
         assert_eq!(frames, 2 * FRAMES);
         let mut each = Checksum::new();
         for variant in VARIANTS {
-            run(variant, &mut buf, NoCounter, |r| each.add(&r.estimate)).unwrap();
+            let mut fresh = FirmwareTracker::unstarted();
+            run(variant, &mut fresh, &mut buf, NoCounter, |r| {
+                each.add(&r.estimate)
+            })
+            .unwrap();
         }
         assert_eq!(all, each);
     }
@@ -232,9 +240,10 @@ mod tests {
     #[test]
     fn both_trackers_follow_the_target() {
         let mut buf = [0u8; scene::FRAME_BYTES];
+        let mut tracker = FirmwareTracker::unstarted();
         for variant in [Variant::Rbpf, Variant::ColourPf] {
             let mut worst = 0i64;
-            run(variant, &mut buf, NoCounter, |r| {
+            run(variant, &mut tracker, &mut buf, NoCounter, |r| {
                 let dx = (r.estimate.ellipse.cx - r.truth.cx).round_int() as i64;
                 let dy = (r.estimate.ellipse.cy - r.truth.cy).round_int() as i64;
                 worst = worst.max(dx * dx + dy * dy);

@@ -8,12 +8,14 @@
 
 use rbtrack::profile::NoCounter;
 use rbtrack::tracker::{Status, Variant};
-use rbtrack_firmware::run::{pixel_bound, run_all, Checksum, FrameReport};
+use rbtrack_firmware::run::{pixel_bound, run_all, Checksum, FirmwareTracker, FrameReport};
 use rbtrack_firmware::scene::{FRAMES, FRAME_BYTES};
 
 fn host_run(report: impl FnMut(Variant, &FrameReport)) -> Checksum {
     let mut frame = vec![0u8; FRAME_BYTES];
-    run_all(&mut frame, NoCounter, report).expect("the firmware's configuration is valid")
+    let mut tracker = Box::new(FirmwareTracker::unstarted());
+    run_all(&mut tracker, &mut frame, NoCounter, report)
+        .expect("the firmware's configuration is valid")
 }
 
 /// Parses `0x` followed by up to 16 hex digits, as the firmware prints it.

@@ -186,12 +186,34 @@ impl core::fmt::Display for ConfigError {
 
 impl core::error::Error for ConfigError {}
 
+/// `n / den` rounded to nearest (half away from zero), Q16.16: a decimal constant in a
+/// `const` context, equal to `Q16::from_f64` of it (checked in the tests).
+const fn decimal(n: i64, den: i64) -> Q16 {
+    let scaled = n * 65536;
+    let half = den / 2;
+    let rounded = if scaled >= 0 {
+        (scaled + half) / den
+    } else {
+        (scaled - half) / den
+    };
+    Q16::from_bits(rounded as i32)
+}
+
 /// Quantities derived from a valid [`Config`] once, at construction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Derived {
     pub colour: CostScale,
     pub gradient: CostScale,
     pub contrast: Option<CostScale>,
+}
+
+impl Derived {
+    /// Before [`Config::derive`]: every scale 0.
+    pub const UNSET: Self = Self {
+        colour: CostScale::ZERO,
+        gradient: CostScale::ZERO,
+        contrast: None,
+    };
 }
 
 impl Config {
@@ -211,21 +233,21 @@ impl Config {
     ///   frame with prior weight 1/200;
     /// - 300 pixels per window, 24 gradient points searched 2 px each side, systematic
     ///   resampling below half the particles.
-    pub fn new(variant: Variant) -> Self {
-        let rbpf = variant == Variant::Rbpf;
+    pub const fn new(variant: Variant) -> Self {
+        let rbpf = matches!(variant, Variant::Rbpf);
         Self {
             variant,
             seed: 1,
             pixels_per_window: 300,
             position_noise: Q16::from_int(2),
-            relative_position_noise: Q16::from_f64(0.4),
+            relative_position_noise: decimal(4, 10),
             velocity_noise: Q16::ZERO,
             velocity_keep: Q16::ZERO,
             noise_gain: Q16::ZERO,
-            noise_floor: Q16::from_f64(0.25),
-            scale_noise: if rbpf { Q16::ZERO } else { Q16::from_f64(0.01) },
-            colour_sigma: Q16::from_f64(0.1),
-            gradient_sigma: Q16::from_f64(0.3),
+            noise_floor: decimal(25, 100),
+            scale_noise: if rbpf { Q16::ZERO } else { decimal(1, 100) },
+            colour_sigma: decimal(1, 10),
+            gradient_sigma: decimal(3, 10),
             cue_mix: CueMix::Product,
             gradient_points: 24,
             gradient_search: 2,
@@ -233,24 +255,24 @@ impl Config {
             resample_below: Q16::HALF,
             readout: Readout::Mean,
             adapt_rate: Q16::ZERO,
-            adapt_above: Q16::from_f64(0.85),
-            uncertain_below: Q16::from_f64(0.75),
-            lost_below: Q16::from_f64(0.6),
-            redetect_share: Q16::from_f64(0.25),
+            adapt_above: decimal(85, 100),
+            uncertain_below: decimal(75, 100),
+            lost_below: decimal(6, 10),
+            redetect_share: decimal(25, 100),
             scale_per_row: Q16::ZERO,
-            kalman_q: Q16::from_f64(0.01),
+            kalman_q: decimal(1, 100),
             kalman_r: Q16::from_int(16),
-            scale_step: Q16::from_f64(0.05),
+            scale_step: decimal(5, 100),
             min_half_axis: Q16::from_int(2),
             background_weighting: true,
-            background_floor: Q16::from_f64(0.01),
+            background_floor: decimal(1, 100),
             ring_scale: Q16::from_int(2),
             split_halves: true,
-            contrast_sigma: if rbpf { None } else { Some(Q16::from_f64(0.2)) },
-            contrast_ring: Q16::from_f64(1.1),
+            contrast_sigma: if rbpf { None } else { Some(decimal(2, 10)) },
+            contrast_ring: decimal(11, 10),
             size_measurement: SizeMeasurement::Contrast,
             freeze_size: false,
-            redetect_prior: Q16::from_f64(0.005),
+            redetect_prior: decimal(5, 1000),
             learn_scale_per_row: false,
         }
     }
@@ -263,20 +285,20 @@ impl Config {
     /// the two likelihoods with `a = 0.5` (its eq. 10d), filters the size with the paper's
     /// Kalman `Q = 4 I`, `R = 2 I`, measured by likelihood, and takes `scale_per_row` as
     /// given. Re-detection as before the object map: half the particles, no prior.
-    pub fn paper(variant: Variant) -> Self {
-        let rbpf = variant == Variant::Rbpf;
+    pub const fn paper(variant: Variant) -> Self {
+        let rbpf = matches!(variant, Variant::Rbpf);
         Self {
-            relative_position_noise: Q16::from_f64(0.2),
+            relative_position_noise: decimal(2, 10),
             velocity_noise: Q16::ONE,
-            velocity_keep: Q16::from_f64(0.95),
+            velocity_keep: decimal(95, 100),
             scale_noise: if rbpf {
-                Q16::from_f64(0.3)
+                decimal(3, 10)
             } else {
-                Q16::from_f64(0.03)
+                decimal(3, 100)
             },
-            colour_sigma: Q16::from_f64(0.2),
+            colour_sigma: decimal(2, 10),
             cue_mix: CueMix::Average(Q16::HALF),
-            adapt_rate: Q16::from_f64(0.05),
+            adapt_rate: decimal(5, 100),
             redetect_share: Q16::HALF,
             kalman_q: Q16::from_int(4),
             kalman_r: Q16::from_int(2),
@@ -404,6 +426,27 @@ impl Config {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn decimal_constants_equal_their_float_conversion() {
+        for den in [10, 100, 1000] {
+            for n in -5000..=5000 {
+                assert_eq!(
+                    decimal(n, den),
+                    Q16::from_f64(n as f64 / den as f64),
+                    "{n}/{den}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn configurations_are_const() {
+        const DEFAULT: Config = Config::new(Variant::Rbpf);
+        const PAPER: Config = Config::paper(Variant::ColourPf);
+        assert_eq!(DEFAULT.colour_sigma, Q16::from_f64(0.1));
+        assert_eq!(PAPER.colour_sigma, Q16::from_f64(0.2));
+    }
 
     #[test]
     fn defaults_are_valid() {

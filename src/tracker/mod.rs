@@ -101,6 +101,36 @@ pub const fn max_pixels_per_step(particles: usize, cap: u32) -> u64 {
     (particles as u64 + 10) * cap + 2 * map_cells
 }
 
+/// The colour model's settings in `config`.
+const fn colour_settings(config: &Config) -> ColourSettings {
+    ColourSettings {
+        split_halves: config.split_halves,
+        background: if config.background_weighting {
+            Some(config.background_floor)
+        } else {
+            None
+        },
+        ring_scale: config.ring_scale,
+        cap: config.pixels_per_window,
+    }
+}
+
+/// Whether `init` can start a tracker of `config` on `frame`: half-axes at least
+/// `min_half_axis`, centre inside the frame.
+fn check_init<P: PixelFormat>(
+    config: &Config,
+    frame: &ImageView<'_, P>,
+    init: &Ellipse,
+) -> Result<(), ConfigError> {
+    let bounds = Bounds::for_frame(frame.width(), frame.height(), config.min_half_axis);
+    let inside = |v: Q16, max: Q16| v >= Q16::ZERO && v <= max;
+    let usable = init.hx >= config.min_half_axis
+        && init.hy >= config.min_half_axis
+        && inside(init.cx, bounds.max_x)
+        && inside(init.cy, bounds.max_y);
+    usable.then_some(()).ok_or(ConfigError::InitialEllipse)
+}
+
 /// The scales tried when measuring the size: `1 + k scale_step` for these `k`, the
 /// unchanged size first (it wins a tie).
 const SCALE_STEPS: [i32; 5] = [0, -1, 1, -2, 2];
@@ -150,7 +180,8 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     cue: GradientCue,
     initial_cov: Sym2,
     leaf_cov: SharedCovariance,
-    rng: Rng,
+    /// The random stream (`None` until [`Tracker::start`]).
+    rng: Option<Rng>,
     particles: [Particle; N],
     weights: [u32; N],
     /// The gradient cue of each particle's window this frame (RBPF), then its cost.
@@ -184,19 +215,66 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
 }
 
 impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
+    /// A tracker that has not started: no configuration, random stream or model, every
+    /// particle at the origin. `const`, so firmware can place it in a `static` (for
+    /// example `static_cell::ConstStaticCell`) and never hold a tracker-sized value on the
+    /// stack; [`Tracker::start`] then configures and starts it in place. Until then
+    /// [`Tracker::step`] returns its estimate (status `Lost`, confidence 0) unchanged.
+    pub const fn unstarted() -> Self {
+        const { assert!(Bn::BINS == B, "the binning must have B bins") };
+        let origin = Ellipse::new(Q16::ZERO, Q16::ZERO, Q16::ZERO, Q16::ZERO);
+        let config = Config::new(Variant::Rbpf);
+        Self {
+            config,
+            derived: Derived::UNSET,
+            cue: GradientCue::UNSET,
+            initial_cov: Sym2::diagonal(Q16::ZERO, Q16::ZERO),
+            leaf_cov: SharedCovariance::UNSET,
+            rng: None,
+            particles: [Particle::at(&origin); N],
+            weights: [0; N],
+            cue_values: [Q16::ZERO; N],
+            colour_costs: [Q16::ZERO; N],
+            memo: GradientMemo::new(),
+            indices: [0; N],
+            counts: [0; N],
+            resampled: false,
+            scale_factor: None,
+            colour: ColourModel::new(colour_settings(&config)),
+            scratch: [Histogram::new(), Histogram::new()],
+            map: ObjectMap::new(),
+            calibration: Q16::ONE,
+            ground: GroundPlane::new(),
+            estimate: Estimate {
+                ellipse: origin,
+                vx: Q16::ZERO,
+                vy: Q16::ZERO,
+                confidence: Q16::ZERO,
+                status: Status::Lost,
+            },
+            last_confident: origin,
+            motion_spread: None,
+            pixels_visited: 0,
+            weight_recoveries: 0,
+            binning: PhantomData,
+        }
+    }
+
     /// Checks `config`, builds the target model from the window `init` of `frame` and
-    /// places every particle on `init`.
+    /// places every particle on `init`, in place, whatever the tracker did before; the
+    /// random stream starts from `config.seed`.
     ///
     /// # Errors
     /// [`ConfigError::OutOfRange`] naming the first bad field, [`ConfigError::ParticleCount`]
     /// for `N` outside `1..=65535`, [`ConfigError::InitialEllipse`] for an ellipse with a
-    /// half-axis below `min_half_axis` or a centre outside the frame.
-    pub fn new<P: PixelFormat>(
+    /// half-axis below `min_half_axis` or a centre outside the frame; the tracker is then
+    /// unchanged.
+    pub fn start<P: PixelFormat>(
+        &mut self,
         config: Config,
         frame: &ImageView<'_, P>,
         init: Ellipse,
-    ) -> Result<Self, ConfigError> {
-        const { assert!(Bn::BINS == B, "the binning must have B bins") };
+    ) -> Result<(), ConfigError> {
         if N == 0 || N > crate::resample::MAX_PARTICLES {
             return Err(ConfigError::ParticleCount);
         }
@@ -211,70 +289,47 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let noise = BlockNoise::diagonal([q, q, q, q], [r, r]);
         let leaf_cov = SharedCovariance::new(initial_cov, initial_cov, noise)
             .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
-        let mut tracker = Self {
-            config,
-            derived,
-            cue,
-            initial_cov,
-            leaf_cov,
-            rng: Rng::new(config.seed),
-            particles: [Particle::default(); N],
-            weights: [0; N],
-            cue_values: [Q16::ZERO; N],
-            colour_costs: [Q16::ZERO; N],
-            memo: GradientMemo::new(),
-            indices: [0; N],
-            counts: [0; N],
-            resampled: false,
-            scale_factor: None,
-            colour: ColourModel::new(ColourSettings {
-                split_halves: config.split_halves,
-                background: config
-                    .background_weighting
-                    .then_some(config.background_floor),
-                ring_scale: config.ring_scale,
-                cap: config.pixels_per_window,
-            }),
-            scratch: [Histogram::new(), Histogram::new()],
-            map: ObjectMap::new(),
-            calibration: Q16::ONE,
-            ground: GroundPlane::new(),
-            estimate: Estimate {
-                ellipse: init,
-                vx: Q16::ZERO,
-                vy: Q16::ZERO,
-                confidence: Q16::ONE,
-                status: Status::Tracking,
-            },
-            last_confident: init,
-            motion_spread: None,
-            pixels_visited: 0,
-            weight_recoveries: 0,
-            binning: PhantomData,
-        };
-        tracker.reset(frame, init)?;
+        check_init(&config, frame, &init)?;
+        self.config = config;
+        (self.derived, self.cue, self.initial_cov, self.leaf_cov) =
+            (derived, cue, initial_cov, leaf_cov);
+        self.colour.configure(colour_settings(&config));
+        self.rng = Some(Rng::new(config.seed));
+        self.reset(frame, init)
+    }
+
+    /// [`Tracker::unstarted`], then [`Tracker::start`]: a tracker of `config` on the window
+    /// `init` of `frame`. The tracker is returned by value: firmware short of stack
+    /// starts one in a `static` instead.
+    ///
+    /// # Errors
+    /// As [`Tracker::start`].
+    pub fn new<P: PixelFormat>(
+        config: Config,
+        frame: &ImageView<'_, P>,
+        init: Ellipse,
+    ) -> Result<Self, ConfigError> {
+        let mut tracker = Self::unstarted();
+        tracker.start(config, frame, init)?;
         Ok(tracker)
     }
 
     /// Re-initialises on the window `init` of `frame` (new model, particles on `init`,
-    /// fresh covariance) without rebuilding; the random stream continues.
+    /// fresh covariance) without rebuilding; the configuration stays and the random
+    /// stream continues. An unstarted tracker is started with the defaults of the RBPF
+    /// ([`Tracker::start`]).
     ///
     /// # Errors
-    /// [`ConfigError::InitialEllipse`] as for [`Tracker::new`]; the tracker is unchanged.
+    /// [`ConfigError::InitialEllipse`] as for [`Tracker::start`]; the tracker is unchanged.
     pub fn reset<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
         init: Ellipse,
     ) -> Result<(), ConfigError> {
-        let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
-        let inside = |v: Q16, max: Q16| v >= Q16::ZERO && v <= max;
-        if init.hx < self.config.min_half_axis
-            || init.hy < self.config.min_half_axis
-            || !inside(init.cx, bounds.max_x)
-            || !inside(init.cy, bounds.max_y)
-        {
-            return Err(ConfigError::InitialEllipse);
+        if self.rng.is_none() {
+            return self.start(self.config, frame, init);
         }
+        check_init(&self.config, frame, &init)?;
         self.colour.learn::<Bn, P>(frame, &init, &mut self.scratch);
         self.calibration = self.calibrate(frame, &init);
         self.ground = GroundPlane::new();
@@ -309,6 +364,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     ) -> (Estimate, StageCycles) {
         let mut watch = Stopwatch::start(counter);
         let mut cycles = StageCycles::default();
+        if self.rng.is_none() {
+            return (self.estimate, cycles);
+        }
         let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
         self.pixels_visited = 0;
         self.scale_factor = None;
@@ -407,7 +465,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         };
         let motion = Motion::new(&self.config, self.noise_scale(searching));
         let slope = self.scale_per_row();
-        let rng = &mut self.rng;
+        let Some(rng) = self.rng.as_mut() else {
+            return;
+        };
         for p in self.particles.iter_mut() {
             let y_before = p.y;
             motion.drift(p, rng, bounds);
@@ -471,8 +531,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let width = bounds.max_x.floor_int() as u32 + 1;
         let height = bounds.max_y.floor_int() as u32 + 1;
         for p in self.particles.iter_mut().take(count) {
-            let x = Q16::from_int(self.rng.below(width) as i32);
-            let y = Q16::from_int(self.rng.below(height) as i32);
+            let Some(rng) = self.rng.as_mut() else {
+                return;
+            };
+            let x = Q16::from_int(rng.below(width) as i32);
+            let y = Q16::from_int(rng.below(height) as i32);
             let hy = last.hy + slope * (y - last.cy);
             let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
             *p = Particle::at(&Ellipse {
@@ -807,7 +870,10 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             return;
         }
         let scheme = self.config.resampling;
-        if resample(scheme, &mut self.weights, &mut self.rng, &mut self.indices).is_ok() {
+        let Some(rng) = self.rng.as_mut() else {
+            return;
+        };
+        if resample(scheme, &mut self.weights, rng, &mut self.indices).is_ok() {
             replicate(&mut self.particles, &self.indices, &mut self.counts);
             self.resampled = true;
         }
@@ -835,6 +901,42 @@ mod tests {
         let mut config = Config::new(Variant::ColourPf);
         config.noise_gain = noise_gain;
         (buf, init, config)
+    }
+
+    #[test]
+    fn starts_in_place_like_new_and_does_nothing_before() {
+        // A tracker is `const`-constructible, so it can live in a `static`.
+        const UNSTARTED: Tracker<Luma64, 50, 64> = Tracker::unstarted();
+        let (buf, init, config) = still_target(Q16::ZERO);
+        let frame = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
+        let mut in_place = UNSTARTED;
+        let before = in_place.step(&frame);
+        assert_eq!(
+            (before.status, before.confidence),
+            (Status::Lost, Q16::ZERO)
+        );
+        assert_eq!(in_place.pixels_visited(), 0);
+        let bad = Ellipse {
+            hx: Q16::ONE,
+            ..init
+        };
+        assert_eq!(
+            in_place.start(config, &frame, bad),
+            Err(ConfigError::InitialEllipse)
+        );
+        assert_eq!(
+            in_place.step(&frame),
+            before,
+            "a refused start leaves it unstarted"
+        );
+        in_place.start(config, &frame, init).unwrap();
+        let mut built = Tracker::<Luma64, 50, 64>::new(config, &frame, init).unwrap();
+        for _ in 0..10 {
+            assert_eq!(in_place.step(&frame), built.step(&frame));
+        }
+        let mut reset_first = UNSTARTED;
+        reset_first.reset(&frame, init).unwrap();
+        assert_eq!(reset_first.step(&frame).status, Status::Tracking);
     }
 
     #[test]

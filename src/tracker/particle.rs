@@ -26,7 +26,7 @@ pub struct Particle {
 
 impl Particle {
     /// A particle at rest on `e`.
-    pub fn at(e: &Ellipse) -> Self {
+    pub const fn at(e: &Ellipse) -> Self {
         Self {
             x: e.cx,
             y: e.cy,
