@@ -40,6 +40,7 @@ mod firmware {
     use rbtrack_firmware::board::{self, Dwt, SysTick};
     use rbtrack_firmware::run::{self, Checksum, FrameReport, BINS, PARTICLES};
     use rbtrack_firmware::scene::{self, FRAMES};
+    use static_cell::ConstStaticCell;
 
     /// Iterations of the SysTick calibration loop (2 instructions each).
     const CALIBRATION_ITERATIONS: u32 = 5_000_000;
@@ -257,8 +258,14 @@ mod firmware {
     }
 
     /// Costs of the primitives a particle's weight is made of, on the target's window in
-    /// the rendered frame 0.
+    /// the rendered frame 0; the histogram and model are statics, like the tracker.
+    #[inline(never)]
     fn primitives(frame: &[u8], counter: &mut Counter, unit: &str) {
+        static HIST: ConstStaticCell<Histogram<BINS>> = ConstStaticCell::new(Histogram::new());
+        static MODEL: ConstStaticCell<Model<BINS>> = ConstStaticCell::new(Model::new());
+        let (Some(hist), Some(model)) = (HIST.try_take(), MODEL.try_take()) else {
+            panic!("primitives measured twice");
+        };
         let Ok(img) = ImageView::<Rgb565Le>::new(frame, scene::WIDTH, scene::HEIGHT, scene::WIDTH)
         else {
             panic!("frame buffer too short");
@@ -280,7 +287,6 @@ mod firmware {
             n,
             Ratio(t as u64, n as u64)
         );
-        let mut hist = Histogram::<BINS>::new();
         let (t, n) = time(counter, || hist.fill::<Rgb8x8x8, Rgb565Le>(&img, &e, cap));
         hprintln!(
             "  Histogram::fill               {:>6}  {} px, {} per px",
@@ -288,8 +294,8 @@ mod firmware {
             n,
             Ratio(t as u64, n as u64)
         );
-        let model = Model::from_histogram(&hist);
-        let (t, _) = time(counter, || hist.bhattacharyya(&model));
+        model.set(hist);
+        let (t, _) = time(counter, || hist.bhattacharyya(model));
         hprintln!(
             "  Histogram::bhattacharyya      {:>6}  {} bins",
             t,

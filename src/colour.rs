@@ -176,39 +176,79 @@ impl<const B: usize> ColourModel<B> {
         e: &Ellipse,
         scratch: &mut [Histogram<B>; 2],
     ) -> Match {
-        let cap = self.settings.cap;
+        let pixels = self.fill::<Bn, P>(img, e, scratch);
+        let [first, second] = &*scratch;
+        let rho = match self.settings.split_halves {
+            true => first.coefficient_with(second, self.whole.sqrt_table()),
+            false => first.coefficient(self.whole.sqrt_table()),
+        };
+        let score = self.score_filled(scratch);
+        Match { rho, score, pixels }
+    }
+
+    /// [`Match::score`] of the window `e` and the pixels read: [`ColourModel::compare`]
+    /// without the confidence, the per-particle path.
+    #[inline]
+    pub fn score<Bn: Binning, P: PixelFormat>(
+        &self,
+        img: &ImageView<'_, P>,
+        e: &Ellipse,
+        scratch: &mut [Histogram<B>; 2],
+    ) -> (Q16, u32) {
+        let pixels = self.fill::<Bn, P>(img, e, scratch);
+        (self.score_filled(scratch), pixels)
+    }
+
+    /// Fills `scratch` from the window `e`: the whole window into `scratch[0]`, or its
+    /// halves into both. Returns the pixels read.
+    #[inline]
+    fn fill<Bn: Binning, P: PixelFormat>(
+        &self,
+        img: &ImageView<'_, P>,
+        e: &Ellipse,
+        scratch: &mut [Histogram<B>; 2],
+    ) -> u32 {
         let [first, second] = scratch;
-        let background = self.settings.background.is_some();
-        if !self.settings.split_halves {
-            let pixels = first.fill::<Bn, P>(img, e, cap);
-            let rho = first.coefficient(self.whole.sqrt_table());
-            let score = match background {
-                true => first.coefficient(&self.weighted[0]),
-                false => rho,
-            };
-            return Match { rho, score, pixels };
+        let cap = self.settings.cap;
+        match self.settings.split_halves {
+            true => Histogram::fill_halves::<Bn, P>(first, second, img, e, cap),
+            false => first.fill::<Bn, P>(img, e, cap),
         }
-        let pixels = Histogram::fill_halves::<Bn, P>(first, second, img, e, cap);
-        let rho = first.coefficient_with(second, self.whole.sqrt_table());
-        // The mean of the halves' coefficients (the one half, if the other is empty).
+    }
+
+    /// The score of the window whose histograms `scratch` holds ([`ColourModel::fill`]):
+    /// its (background-weighted) coefficient, or the mean of the halves' (the one half, if
+    /// the other is empty).
+    #[inline]
+    fn score_filled(&self, scratch: &[Histogram<B>; 2]) -> Q16 {
+        let background = self.settings.background.is_some();
+        let parts = if self.settings.split_halves { 2 } else { 1 };
         let (mut sum, mut filled) = (0i32, 0i32);
-        for ((hist, part), weighted) in [&*first, &*second]
-            .into_iter()
-            .zip(self.halves.iter())
+        for ((hist, model), weighted) in scratch
+            .iter()
+            .zip(self.scoring_models())
             .zip(self.weighted.iter())
+            .take(parts)
         {
             if !hist.is_empty() {
                 let table = if background {
                     weighted
                 } else {
-                    part.sqrt_table()
+                    model.sqrt_table()
                 };
                 sum += hist.coefficient(table).to_bits();
                 filled += 1;
             }
         }
-        let score = Q16::from_bits(sum.checked_div(filled).unwrap_or(0));
-        Match { rho, score, pixels }
+        Q16::from_bits(sum.checked_div(filled).unwrap_or(0))
+    }
+
+    /// The models that score windows: the whole window's, or the halves'.
+    fn scoring_models(&self) -> [&Model<B>; 2] {
+        match self.settings.split_halves {
+            true => [&self.halves[0], &self.halves[1]],
+            false => [&self.whole, &self.whole],
+        }
     }
 
     /// `P(object | u)` per bin, Q0.16.

@@ -49,7 +49,7 @@
 //! h.fill::<Rgb8x8x8, _>(&img, &Ellipse::default(), 16); // 512 bins != 256
 //! ```
 
-use crate::fixed::Q16;
+use crate::fixed::{div_u64_u32, Q16};
 use crate::image::{Binning, ImageView, PixelFormat};
 use crate::window::{rows, visit, Ellipse, MAX_CAP, WEIGHT_ONE};
 
@@ -176,11 +176,11 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
 /// rounded, as Q16.16 clamped to `[0, 1]`; 0 for no mass.
 #[inline]
 fn ratio(acc: u64, mass: u32) -> Q16 {
-    let den = (sqrt_q8(mass) as u64) << 7; // Q31 / (Q8 << 7) = Q16
+    let den = sqrt_q8(mass) << 7; // Q31 / (Q8 << 7) = Q16; sqrt_q8 < 2^24
     if den == 0 {
         return Q16::ZERO;
     }
-    let rho = (acc + den / 2) / den;
+    let rho = div_u64_u32(acc + (den / 2) as u64, den);
     Q16::from_bits(rho.min(1 << 16) as i32)
 }
 

@@ -11,7 +11,7 @@
 //! exact for the piecewise-constant map: a box that covers a third of a cell counts a
 //! third of it, so scores move smoothly with sub-cell shifts and sizes.
 
-use crate::fixed::Q16;
+use crate::fixed::{div_u64_u32, Q16};
 use crate::image::{Binning, ImageView, PixelFormat};
 
 /// Cells per side of the map, at most.
@@ -43,6 +43,8 @@ pub struct ObjectMap {
     top: i32,
     /// Cell side, px (`>= 1`).
     cell: i32,
+    /// `floor(2^32 / cell)` (`u32::MAX` for a 1 px cell).
+    cell_reciprocal: u32,
     /// Cells in use per row and per column (`<= SIDE`).
     cols: usize,
     rows: usize,
@@ -77,6 +79,7 @@ impl ObjectMap {
             left: 0,
             top: 0,
             cell: 1,
+            cell_reciprocal: u32::MAX,
             cols: 0,
             rows: 0,
             integral: [0; STRIDE * STRIDE],
@@ -110,6 +113,7 @@ impl ObjectMap {
         let dx = (cell / 2).min(width - 1 - last_x).max(0);
         let dy = (cell / 2).min(height - 1 - last_y).max(0);
         (self.left, self.top, self.cell, self.cols, self.rows) = (left, top, cell, cols, rows);
+        self.cell_reciprocal = ((1u64 << 32) / cell as u64).min(u32::MAX as u64) as u32;
 
         let (frame, stride) = (img.as_bytes(), img.stride());
         self.integral[..STRIDE].fill(0);
@@ -151,7 +155,14 @@ impl ObjectMap {
     /// `[0, count]`; the pixel grid's `-1/2` offset is applied here.
     fn to_cells(&self, v: Q16, origin: i32, count: usize) -> i64 {
         let px = v.to_bits() as i64 + (1 << 15) - ((origin as i64) << 16);
-        (px / self.cell as i64).clamp(0, (count as i64) << 16)
+        // Left of the map is 0 cells; to the right, px / cell by the cell's reciprocal,
+        // corrected once (exact for px below 2^32).
+        let (px, cell) = (px.clamp(0, u32::MAX as i64) as u64, self.cell as u64);
+        let mut cells = (px * self.cell_reciprocal as u64) >> 32;
+        if (cells + 1) * cell <= px {
+            cells += 1;
+        }
+        (cells as i64).min((count as i64) << 16)
     }
 
     /// The integral image at `(u, v)` (cells, Q16.16, in range), bilinearly
@@ -179,9 +190,11 @@ impl ObjectMap {
             return Q16::ZERO;
         }
         let (s_out, a_out) = self.sum(outer);
-        let mean_in = (s_in / a_in) as i64; // Q0.16 probability
+        // Areas are below 2^29 (64^2 cells, Q16.16): 64-by-32-bit divisions.
+        let mean = |sum: u64, area: u64| div_u64_u32(sum, area.min(u32::MAX as u64) as u32) as i64;
+        let mean_in = mean(s_in, a_in); // Q0.16 probability
         let mean_ring = match a_out.checked_sub(a_in) {
-            Some(a) if a > 0 => (s_out.saturating_sub(s_in) / a) as i64,
+            Some(a) if a > 0 => mean(s_out.saturating_sub(s_in), a),
             _ => 0,
         };
         Q16::from_bits((mean_in - mean_ring).clamp(-65536, 65536) as i32)

@@ -74,7 +74,7 @@ mod particle;
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
 pub use particle::Particle;
 
-use crate::colour::{ColourModel, ColourSettings, Match};
+use crate::colour::{ColourModel, ColourSettings};
 use crate::cue::{GradientConfig, GradientCue, GradientMemo};
 use crate::fixed::Q16;
 use crate::ground::GroundPlane;
@@ -552,18 +552,17 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         }
     }
 
-    /// The costs of window `e`: colour (histograms, and the contrast cue when configured)
-    /// and gradient (RBPF, else 0), Q16.16, and the window's colour match; `cue` is the
-    /// window's gradient cue if already known (RBPF).
+    /// The costs of window `e` of colour score `score` ([`crate::colour::Match::score`]):
+    /// colour (the score's, plus the contrast cue's when configured) and gradient (RBPF,
+    /// else 0), Q16.16; `cue` is the window's gradient cue if already known (RBPF).
     fn costs<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
         e: &Ellipse,
+        score: Q16,
         cue: Option<Q16>,
-    ) -> (Q16, Q16, Match) {
-        let m = self.colour.compare::<Bn, P>(frame, e, &mut self.scratch);
-        self.pixels_visited = self.pixels_visited.saturating_add(m.pixels);
-        let mut colour = self.derived.colour.cost(Q16::ONE - m.score);
+    ) -> (Q16, Q16) {
+        let mut colour = self.derived.colour.cost(Q16::ONE - score);
         if let Some(scale) = self.derived.contrast {
             colour += scale.cost(Q16::ONE - self.contrast(e));
         }
@@ -578,7 +577,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 self.derived.gradient.cost(miss * miss)
             }
         };
-        (colour, gradient, m)
+        (colour, gradient)
     }
 
     /// Likelihood, Q0.16 in `0..=65535`, of a window of colour cost `colour` and gradient
@@ -699,7 +698,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let mut offset = Q16::MAX;
         for i in 0..N {
             let e = self.particles[i].ellipse();
-            let (colour, gradient, _) = self.costs(frame, &e, Some(self.cue_values[i]));
+            let (score, pixels) = self.colour.score::<Bn, P>(frame, &e, &mut self.scratch);
+            self.pixels_visited = self.pixels_visited.saturating_add(pixels);
+            let (colour, gradient) = self.costs(frame, &e, score, Some(self.cue_values[i]));
             (self.colour_costs[i], self.cue_values[i]) = (colour, gradient);
             offset = offset.min(colour + gradient);
         }
@@ -742,7 +743,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                     (c.to_bits() as i64, c > Q16::ZERO)
                 }
                 SizeMeasurement::Likelihood => {
-                    let (colour, gradient, m) = self.costs(frame, &e, None);
+                    let m = self.colour.compare::<Bn, P>(frame, &e, &mut self.scratch);
+                    self.pixels_visited = self.pixels_visited.saturating_add(m.pixels);
+                    let (colour, gradient) = self.costs(frame, &e, m.score, None);
                     let score = match self.config.cue_mix {
                         CueMix::Average(_) => self.likelihood(colour, gradient, Q16::ZERO) as i64,
                         CueMix::Product => -((colour + gradient).to_bits() as i64),
