@@ -127,11 +127,29 @@ pub fn run<C: CycleCounter>(
     variant: Variant,
     tracker: &mut FirmwareTracker,
     buf: &mut [u8],
+    counter: C,
+    report: impl FnMut(&FrameReport),
+) -> Result<(), ConfigError> {
+    run_config(config(variant), tracker, buf, counter, report)
+}
+
+/// [`run`] with any configuration and particle count `N`: the scene's workload for a
+/// tracker of `config` (the budget example's measure of a configuration's cost).
+///
+/// # Errors
+/// The tracker's [`ConfigError`].
+///
+/// # Panics
+/// If `buf` is shorter than [`scene::FRAME_BYTES`].
+pub fn run_config<C: CycleCounter, const N: usize>(
+    config: Config,
+    tracker: &mut Tracker<Rgb8x8x8, N, BINS>,
+    buf: &mut [u8],
     mut counter: C,
     mut report: impl FnMut(&FrameReport),
 ) -> Result<(), ConfigError> {
     scene::render(scene::SEED, 0, buf);
-    tracker.start(config(variant), &view(buf), scene::truth(0))?;
+    tracker.start(config, &view(buf), scene::truth(0))?;
     for frame in 1..=FRAMES {
         scene::render(scene::SEED, frame, buf);
         let (estimate, cycles) = tracker.step_profiled(&view(buf), &mut counter);
@@ -147,8 +165,8 @@ pub fn run<C: CycleCounter>(
 }
 
 /// Runs every tracker of [`VARIANTS`] in turn in `tracker` ([`run`]) and returns the
-/// checksum over all
-/// their estimates, in run order: the figure the firmware and the host test compare.
+/// checksum over all their estimates, in run order: the figure the firmware and the host
+/// test compare.
 ///
 /// # Errors
 /// The first tracker's [`ConfigError`].
