@@ -61,7 +61,7 @@ mod budget {
         config.pixels_per_window = cap;
         config.gradient_points = points;
         let (mut total, mut most) = (0u64, 0u32);
-        let result = run::run_config(config, tracker, frame, counter, |r| {
+        let result = run::run_config(config, tracker, FRAMES, frame, counter, |r| {
             let units = r.cycles.total();
             total += units as u64;
             most = most.max(units);

@@ -93,6 +93,22 @@ impl<const B: usize> defmt::Format for ColourModel<B> {
 }
 
 impl<const B: usize> ColourModel<B> {
+    /// Every bit zero, with zero settings: the colour model of an unstarted tracker, for
+    /// [`ColourModel::configure`] to set up.
+    pub const UNSET: Self = Self {
+        settings: ColourSettings {
+            split_halves: false,
+            background: None,
+            ring_scale: Q16::ZERO,
+            cap: 0,
+        },
+        whole: Model::new(),
+        halves: [Model::new(), Model::new()],
+        weighted: [[0; B]; 2],
+        surroundings: [0; B],
+        object_prob: [0; B],
+    };
+
     /// An empty model: every window's coefficients are 0, every object probability
     /// [`OBJECT_PRIOR`].
     pub const fn new(settings: ColourSettings) -> Self {

@@ -135,7 +135,7 @@ impl GradientCue {
         sin: [Q16::ZERO; MAX_POINTS],
         points: 0,
         search: 0,
-        saturation: 1,
+        saturation: 0,
         recip: 0,
     };
 
@@ -427,6 +427,21 @@ impl GradientMemo {
             values: [0; MEMO_SLOTS],
             tag: 1 << 24,
         }
+    }
+
+    /// Every bit zero: a memo that holds nothing valid until [`GradientMemo::clear`] (an
+    /// unstarted tracker's, so that the tracker can sit in `.bss`).
+    pub(crate) const UNSTARTED: Self = Self {
+        keys: [0; MEMO_SLOTS],
+        values: [0; MEMO_SLOTS],
+        tag: 0,
+    };
+
+    /// Empties the memo in place: what [`GradientMemo::new`] gives.
+    pub fn clear(&mut self) {
+        self.keys.fill(0);
+        self.values.fill(0);
+        self.tag = 1 << 24;
     }
 
     /// Forgets every entry (in constant time, by moving to the next generation; every

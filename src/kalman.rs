@@ -814,16 +814,16 @@ pub struct SharedCovariance {
 }
 
 impl SharedCovariance {
-    /// Unit covariances and noise, before one is configured.
+    /// Zero covariances and noise, before one is configured (every bit zero).
     pub const UNSET: Self = {
-        let unit = Sym2::diagonal(Q16::ONE, Q16::ONE);
+        let zero = Sym2::diagonal(Q16::ZERO, Q16::ZERO);
         match Self::new(
-            unit,
-            unit,
-            BlockNoise::diagonal([Q16::ONE; 4], [Q16::ONE; 2]),
+            zero,
+            zero,
+            BlockNoise::diagonal([Q16::ZERO; 4], [Q16::ZERO; 2]),
         ) {
             Ok(c) => c,
-            Err(_) => panic!("unit covariances are positive definite"),
+            Err(_) => panic!("zero covariances are positive semidefinite"),
         }
     };
 

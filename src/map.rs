@@ -41,9 +41,9 @@ pub struct ObjectMap {
     /// Left and top edge of cell (0, 0), px.
     left: i32,
     top: i32,
-    /// Cell side, px (`>= 1`).
+    /// Cell side, px (`>= 1` once built; 0 before, every bit of an empty map zero).
     cell: i32,
-    /// `floor(2^32 / cell)` (`u32::MAX` for a 1 px cell).
+    /// `floor(2^32 / cell)` (`u32::MAX` for a 1 px cell; 0 before the first build).
     cell_reciprocal: u32,
     /// Cells in use per row and per column (`<= SIDE`).
     cols: usize,
@@ -73,13 +73,13 @@ impl Default for ObjectMap {
 }
 
 impl ObjectMap {
-    /// An empty map: every box has mean probability 0.
+    /// An empty map (every bit zero): every box has mean probability 0.
     pub const fn new() -> Self {
         Self {
             left: 0,
             top: 0,
-            cell: 1,
-            cell_reciprocal: u32::MAX,
+            cell: 0,
+            cell_reciprocal: 0,
             cols: 0,
             rows: 0,
             integral: [0; STRIDE * STRIDE],

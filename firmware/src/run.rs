@@ -130,11 +130,12 @@ pub fn run<C: CycleCounter>(
     counter: C,
     report: impl FnMut(&FrameReport),
 ) -> Result<(), ConfigError> {
-    run_config(config(variant), tracker, buf, counter, report)
+    run_config(config(variant), tracker, FRAMES, buf, counter, report)
 }
 
-/// [`run`] with any configuration and particle count `N`: the scene's workload for a
-/// tracker of `config` (the budget example's measure of a configuration's cost).
+/// [`run`] with any configuration and particle count `N`, over frames `1..=frames`
+/// (at most [`FRAMES`]): the scene's workload for a tracker of `config` (the budget and
+/// cycles examples' measure of a configuration's cost).
 ///
 /// # Errors
 /// The tracker's [`ConfigError`].
@@ -144,15 +145,18 @@ pub fn run<C: CycleCounter>(
 pub fn run_config<C: CycleCounter, const N: usize>(
     config: Config,
     tracker: &mut Tracker<Rgb8x8x8, N, BINS>,
+    frames: usize,
     buf: &mut [u8],
     mut counter: C,
     mut report: impl FnMut(&FrameReport),
 ) -> Result<(), ConfigError> {
     scene::render(scene::SEED, 0, buf);
     tracker.start(config, &view(buf), scene::truth(0))?;
-    for frame in 1..=FRAMES {
+    for frame in 1..=frames.min(FRAMES) {
         scene::render(scene::SEED, frame, buf);
+        step_begins();
         let (estimate, cycles) = tracker.step_profiled(&view(buf), &mut counter);
+        step_ends();
         report(&FrameReport {
             frame,
             estimate,
@@ -187,6 +191,20 @@ pub fn run_all<C: CycleCounter>(
         })?;
     }
     Ok(checksum)
+}
+
+/// Called right before each step: a mark for instruction-level timing tools
+/// (`ucount.py --start step_begins --end step_ends`), never inlined, does nothing.
+#[inline(never)]
+pub fn step_begins() {
+    // A body of its own, so the linker cannot fold the two marks into one function.
+    core::hint::black_box(1u32);
+}
+
+/// Called right after each step (see [`step_begins`]).
+#[inline(never)]
+pub fn step_ends() {
+    core::hint::black_box(2u32);
 }
 
 /// `buf` as a QVGA RGB565 frame.

@@ -217,6 +217,49 @@ impl Derived {
 }
 
 impl Config {
+    /// Every field zero: the configuration of an unstarted tracker, never validated or
+    /// used (`Tracker::start` replaces it).
+    pub(crate) const UNSET: Self = Self {
+        variant: Variant::ColourPf,
+        seed: 0,
+        pixels_per_window: 0,
+        position_noise: Q16::ZERO,
+        relative_position_noise: Q16::ZERO,
+        velocity_noise: Q16::ZERO,
+        velocity_keep: Q16::ZERO,
+        noise_gain: Q16::ZERO,
+        noise_floor: Q16::ZERO,
+        scale_noise: Q16::ZERO,
+        colour_sigma: Q16::ZERO,
+        gradient_sigma: Q16::ZERO,
+        cue_mix: CueMix::Average(Q16::ZERO),
+        gradient_points: 0,
+        gradient_search: 0,
+        resampling: Scheme::Multinomial,
+        resample_below: Q16::ZERO,
+        readout: Readout::Mean,
+        adapt_rate: Q16::ZERO,
+        adapt_above: Q16::ZERO,
+        uncertain_below: Q16::ZERO,
+        lost_below: Q16::ZERO,
+        redetect_share: Q16::ZERO,
+        scale_per_row: Q16::ZERO,
+        kalman_q: Q16::ZERO,
+        kalman_r: Q16::ZERO,
+        scale_step: Q16::ZERO,
+        min_half_axis: Q16::ZERO,
+        background_weighting: false,
+        background_floor: Q16::ZERO,
+        ring_scale: Q16::ZERO,
+        split_halves: false,
+        contrast_sigma: None,
+        contrast_ring: Q16::ZERO,
+        size_measurement: SizeMeasurement::Likelihood,
+        freeze_size: false,
+        redetect_prior: Q16::ZERO,
+        learn_scale_per_row: false,
+    };
+
     /// The defaults for `variant`, chosen on the real sequences (README, "Accuracy"):
     /// - appearance: 8x8x8 colour histograms of the window's upper and lower halves,
     ///   weighted by the ring around the target (twice its size), fixed after the first

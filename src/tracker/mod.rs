@@ -136,16 +136,20 @@ fn check_init<P: PixelFormat>(
 const SCALE_STEPS: [i32; 5] = [0, -1, 1, -2, 2];
 
 /// How sure the tracker is of its estimate.
+///
+/// `Lost` is 0, so that an unstarted tracker ([`Tracker::unstarted`]) is all zero bits and
+/// a `static` of one takes no flash.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
 pub enum Status {
     /// Confidence at or above `uncertain_below`.
-    Tracking,
+    Tracking = 1,
     /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, the tracker searches
     /// the whole frame with part of its particles.
-    Uncertain,
+    Uncertain = 2,
     /// Confidence below `lost_below`.
-    Lost,
+    Lost = 0,
 }
 
 /// Where the target is after a step.
@@ -216,16 +220,16 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
 
 impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// A tracker that has not started: no configuration, random stream or model, every
-    /// particle at the origin. `const`, so firmware can place it in a `static` (for
-    /// example `static_cell::ConstStaticCell`) and never hold a tracker-sized value on the
-    /// stack; [`Tracker::start`] then configures and starts it in place. Until then
-    /// [`Tracker::step`] returns its estimate (status `Lost`, confidence 0) unchanged.
+    /// particle at the origin, every bit zero. `const`, so firmware can place it in a
+    /// `static` (for example `static_cell::ConstStaticCell`): it lands in `.bss`, takes no
+    /// flash and never a tracker-sized place on the stack; [`Tracker::start`] then
+    /// configures and starts it in place. Until then [`Tracker::step`] returns its
+    /// estimate (status `Lost`, confidence 0) unchanged.
     pub const fn unstarted() -> Self {
         const { assert!(Bn::BINS == B, "the binning must have B bins") };
         let origin = Ellipse::new(Q16::ZERO, Q16::ZERO, Q16::ZERO, Q16::ZERO);
-        let config = Config::new(Variant::Rbpf);
         Self {
-            config,
+            config: Config::UNSET,
             derived: Derived::UNSET,
             cue: GradientCue::UNSET,
             initial_cov: Sym2::diagonal(Q16::ZERO, Q16::ZERO),
@@ -235,15 +239,15 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             weights: [0; N],
             cue_values: [Q16::ZERO; N],
             colour_costs: [Q16::ZERO; N],
-            memo: GradientMemo::new(),
+            memo: GradientMemo::UNSTARTED,
             indices: [0; N],
             counts: [0; N],
             resampled: false,
             scale_factor: None,
-            colour: ColourModel::new(colour_settings(&config)),
+            colour: ColourModel::UNSET,
             scratch: [Histogram::new(), Histogram::new()],
             map: ObjectMap::new(),
-            calibration: Q16::ONE,
+            calibration: Q16::ZERO,
             ground: GroundPlane::new(),
             estimate: Estimate {
                 ellipse: origin,
@@ -294,6 +298,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         (self.derived, self.cue, self.initial_cov, self.leaf_cov) =
             (derived, cue, initial_cov, leaf_cov);
         self.colour.configure(colour_settings(&config));
+        self.memo.clear();
         self.rng = Some(Rng::new(config.seed));
         self.reset(frame, init)
     }
@@ -327,7 +332,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         init: Ellipse,
     ) -> Result<(), ConfigError> {
         if self.rng.is_none() {
-            return self.start(self.config, frame, init);
+            return self.start(Config::new(Variant::Rbpf), frame, init);
         }
         check_init(&self.config, frame, &init)?;
         self.colour.learn::<Bn, P>(frame, &init, &mut self.scratch);

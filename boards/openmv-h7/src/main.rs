@@ -65,6 +65,7 @@ struct Frame([u32; FRAME_WORDS]);
 /// The two capture buffers, in `.bss` (AXI SRAM, which DMA2 reaches; see `memory.x`).
 static FRAME_A: ConstStaticCell<Frame> = ConstStaticCell::new(Frame([0; FRAME_WORDS]));
 static FRAME_B: ConstStaticCell<Frame> = ConstStaticCell::new(Frame([0; FRAME_WORDS]));
+static TRACKER: ConstStaticCell<Tracker> = ConstStaticCell::new(Tracker::unstarted());
 
 bind_interrupts!(struct Irqs {
     DCMI => dcmi::InterruptHandler<peripherals::DCMI>;
@@ -123,18 +124,16 @@ fn view(words: &[u32]) -> Result<ImageView<'_, Pixel>, ImageError> {
     ImageView::from_words(words, WIDTH, HEIGHT, WIDTH)
 }
 
-/// The RBPF on a 48 x 64 px box in the centre of `frame`.
-///
-/// The tracker (about 18.5 KB) is returned by value and lives in the main task's state in
-/// `.bss`; with in-place construction this becomes the one call that fills a static slot.
-fn start_tracker(frame: &ImageView<'_, Pixel>) -> Result<Tracker, ConfigError> {
+/// Starts `tracker` in place (a static: the tracker never lives on the stack) with the
+/// RBPF's defaults on a 48 x 64 px box in the centre of `frame`.
+fn start_tracker(tracker: &mut Tracker, frame: &ImageView<'_, Pixel>) -> Result<(), ConfigError> {
     let centre = Ellipse::new(
         Q16::from_int(WIDTH as i32 / 2),
         Q16::from_int(HEIGHT as i32 / 2),
         Q16::from_int(24),
         Q16::from_int(32),
     );
-    Tracker::new(Config::new(Variant::Rbpf), frame, centre)
+    tracker.start(Config::new(Variant::Rbpf), frame, centre)
 }
 
 /// Repeats a failed capture into `frame` until one succeeds, then invalidates the
@@ -260,8 +259,12 @@ async fn main(_spawner: Spawner) {
 
     let captured = dcmi.capture(ready).await;
     finish_capture(&mut dcmi, &mut cp.SCB, ready, captured).await;
-    let mut tracker = match view(ready).map(|frame| start_tracker(&frame)) {
-        Ok(Ok(tracker)) => tracker,
+    let Some(tracker) = TRACKER.try_take() else {
+        error!("tracker already taken");
+        halt()
+    };
+    match view(ready).map(|frame| start_tracker(tracker, &frame)) {
+        Ok(Ok(())) => {}
         Ok(Err(e)) => {
             error!("tracker: {}", e);
             halt()
@@ -270,7 +273,7 @@ async fn main(_spawner: Spawner) {
             error!("frame: {}", e);
             halt()
         }
-    };
+    }
 
     let mut frame = 0u32;
     loop {
