@@ -166,7 +166,7 @@ impl GradientCue {
             points: config.points,
             search: config.search_px as i32,
             saturation: config.saturation,
-            recip: (1u64 << 48) / den, // den >= 32
+            recip: (1u64 << 48) / den.max(32), // den >= 32
         })
     }
 
