@@ -16,7 +16,9 @@ const HALF_PI_Q62: u64 = 7_244_019_458_077_122_842;
 /// 1 in Q2.62.
 const ONE_Q62: u64 = 1 << 62;
 
-/// `a b` for `a`, `b` in Q2.62 below 2, rounded down.
+/// `a b` for `a`, `b` in Q2.62 below 2, rounded down. Not inlined: the tables are built
+/// once, and one copy of the 128-bit product is smaller than twenty.
+#[inline(never)]
 fn mul_q62(a: u64, b: u64) -> u64 {
     ((a as u128 * b as u128) >> 62) as u64
 }
