@@ -12,7 +12,8 @@
 //! is in the frame). The cue is `g = (1/K) sum_k min(m_k / saturation, 1)`, in `[0, 1]`.
 //!
 //! # Fixed point
-//! `cos t_k`, `sin t_k` are Q16.16 tables built once by [`GradientCue::new`] (libm).
+//! `cos t_k`, `sin t_k` are Q16.16 tables built once by [`GradientCue::new`] (integer
+//! series, equal to the rounded `f64` functions).
 //! Per boundary point the unit normal takes a table square root and two 32-bit
 //! divisions, and the search positions are 32-bit. The search compares squared
 //! magnitudes (integers); a point whose largest one reaches the saturation scores 1
@@ -139,7 +140,7 @@ impl GradientCue {
         recip: 0,
     };
 
-    /// Checks `config` and tabulates the `K` angles (the only floating point, via libm).
+    /// Checks `config` and tabulates the `K` angles (integer arithmetic).
     pub fn new(config: &GradientConfig) -> Result<Self, ConfigError> {
         if !(1..=MAX_POINTS).contains(&config.points) {
             return Err(ConfigError::OutOfRange("points"));
@@ -154,9 +155,7 @@ impl GradientCue {
         let mut sin = [Q16::ZERO; MAX_POINTS];
         for (k, (c, s)) in cos.iter_mut().zip(sin.iter_mut()).enumerate() {
             if k < config.points {
-                let t = 2.0 * core::f64::consts::PI * k as f64 / config.points as f64;
-                *c = Q16::from_f64(libm::cos(t));
-                *s = Q16::from_f64(libm::sin(t));
+                (*c, *s) = crate::trig::cos_sin_of_turn(k as u32, config.points as u32);
             }
         }
         let den = config.points as u64 * ((config.saturation as u64) << MAG_FRAC_BITS);
@@ -166,7 +165,7 @@ impl GradientCue {
             points: config.points,
             search: config.search_px as i32,
             saturation: config.saturation,
-            recip: (1u64 << 48) / den, // den >= 32
+            recip: (1u64 << 48) / den.max(32), // den >= 32
         })
     }
 

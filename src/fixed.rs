@@ -272,8 +272,9 @@ impl core::fmt::Display for Q16 {
 /// Cortex-M4 divides 32 by 32 bits in one instruction, where a 64-bit division is a
 /// library call of about a hundred. The high word takes one division, the low word two
 /// 16-bit quotient digits, each estimated by one division and corrected (Knuth's
-/// algorithm D, as `divlu` in Hacker's Delight, 2nd ed., 9-3).
-#[inline]
+/// algorithm D, as `divlu` in Hacker's Delight, 2nd ed., 9-3). Not inlined: its callers
+/// are themselves inlined into every histogram fill, and one copy serves them all.
+#[inline(never)]
 pub fn div_u64_u32(n: u64, d: u32) -> u64 {
     let (hi, lo) = ((n >> 32) as u32, n as u32);
     let (Some(q_hi), Some(r)) = (hi.checked_div(d), hi.checked_rem(d)) else {

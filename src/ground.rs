@@ -90,18 +90,71 @@ impl GroundPlane {
         if self.n < MIN_WEIGHT {
             return None;
         }
-        // Weighted means and (co)variances, in 1/16 px and (1/16 px)^2.
-        let (n, sy, sh) = (self.n as i128, self.sy as i128, self.sh as i128);
-        let vy = (self.syy as i128 * n - sy * sy) / (n * n);
-        let vh = (self.shh as i128 * n - sh * sh) / (n * n);
-        let cov = (self.syh as i128 * n - sy * sh) / (n * n);
+        // The total weight tends to `2^(WEIGHT_LOG2 + FORGET_LOG2)` from below.
+        let n = u32::try_from(self.n).ok()?;
+        // Weighted means and (co)variances, in 1/16 px and (1/16 px)^2:
+        // `(s_ab n - s_a s_b) / n^2`, rounded toward zero.
+        let moment = |s_ab: i64, s_a: i64, s_b: i64| {
+            let centred = s_ab as i128 * n as i128 - s_a as i128 * s_b as i128;
+            let mag = div_u128_u32(div_u128_u32(centred.unsigned_abs(), n), n) as i128;
+            if centred < 0 {
+                -mag
+            } else {
+                mag
+            }
+        };
+        let vy = moment(self.syy, self.sy, self.sy);
+        let vh = moment(self.shh, self.sh, self.sh);
+        let cov = moment(self.syh, self.sy, self.sh);
         let spread = (min_spread.to_bits().max(0) >> SIXTEENTHS) as i128;
         if vy <= spread * spread || vh <= 0 || 2 * cov * cov < vy * vh {
             return None;
         }
-        let k = ((cov << 16) / vy).clamp(-(4 << 16), 4 << 16);
-        Some(Q16::from_bits(k as i32))
+        // `(cov << 16) / vy` rounded toward zero, clamped to 4 (2^18), with `vy > 0`.
+        let k = slope_q16(cov.unsigned_abs(), vy.unsigned_abs()) as i32;
+        Some(Q16::from_bits(if cov < 0 { -k } else { k }))
     }
+}
+
+/// `n / d` rounded down (0 for `d = 0`), exactly, by 32-bit digits: `u64` divisions by a
+/// `u32` instead of a `u128` division.
+fn div_u128_u32(n: u128, d: u32) -> u128 {
+    let mut quotient = 0u128;
+    let mut rem = 0u64;
+    for shift in [96, 64, 32, 0] {
+        // rem < d, so the digit's quotient fits 32 bits.
+        let x = rem << 32 | (n >> shift) as u32 as u64;
+        let q = x.checked_div(d as u64).unwrap_or(0);
+        rem = x - q * d as u64;
+        quotient |= (q as u128) << shift;
+    }
+    quotient
+}
+
+/// `min(floor(cov 2^16 / var), 2^18)` for `var > 0` (`2^18` for `var = 0`), by binary
+/// long division: the quotient has at most 18 bits.
+fn slope_q16(cov: u128, var: u128) -> u32 {
+    const LIMIT: u32 = 4 << 16;
+    // floor(cov 2^16 / var) >= 2^18 exactly when cov >= 4 var.
+    if cov / 4 >= var {
+        return LIMIT;
+    }
+    // cov < 4 var: the integer part (at most 3) by subtraction, then 16 fraction bits.
+    let (mut quotient, mut rem) = (0u32, cov);
+    while rem >= var {
+        rem -= var;
+        quotient += 1;
+    }
+    for _ in 0..16 {
+        // rem < var, so 2 rem fits and one subtraction brings it below var.
+        rem <<= 1;
+        quotient <<= 1;
+        if rem >= var {
+            rem -= var;
+            quotient |= 1;
+        }
+    }
+    quotient
 }
 
 #[cfg(test)]
@@ -160,6 +213,56 @@ mod tests {
             g.observe(q(cy), q(0.1 * cy + 40.0));
         }
         assert!((g.slope(q(5.0)).unwrap().to_f64() - 0.1).abs() < 0.01);
+    }
+
+    /// The slope by `i128` division, as the fit is defined.
+    fn slope_i128(g: &GroundPlane, min_spread: Q16) -> Option<Q16> {
+        if g.n < MIN_WEIGHT {
+            return None;
+        }
+        let (n, sy, sh) = (g.n as i128, g.sy as i128, g.sh as i128);
+        let vy = (g.syy as i128 * n - sy * sy) / (n * n);
+        let vh = (g.shh as i128 * n - sh * sh) / (n * n);
+        let cov = (g.syh as i128 * n - sy * sh) / (n * n);
+        let spread = (min_spread.to_bits().max(0) >> SIXTEENTHS) as i128;
+        if vy <= spread * spread || vh <= 0 || 2 * cov * cov < vy * vh {
+            return None;
+        }
+        let k = ((cov << 16) / vy).clamp(-(4 << 16), 4 << 16);
+        Some(Q16::from_bits(k as i32))
+    }
+
+    #[test]
+    fn integer_divisions_equal_the_i128_fit() {
+        let mut rng = Rng::new(17);
+        let mut trusted = 0;
+        for run in 0..400 {
+            let mut g = GroundPlane::new();
+            let k = Q16::from_bits(rng.next_u32() as i32 >> (8 + run % 12));
+            let noise = Q16::from_bits((rng.next_u32() >> (10 + run % 16)) as i32);
+            for i in 0..(run % 7) * 40 {
+                let cy = match run % 5 {
+                    0 => Q16::from_bits(rng.next_u32() as i32),
+                    _ => Q16::from_int((i * 37 + run) % 480),
+                };
+                let hy = Q16::from_int(20) + k * cy + rng.gaussian(noise);
+                g.observe(cy, hy);
+                let spread = Q16::from_bits((rng.next_u32() >> 12) as i32);
+                let want = slope_i128(&g, spread);
+                trusted += want.is_some() as u32;
+                assert_eq!(g.slope(spread), want, "run {run}, sample {i}");
+            }
+        }
+        assert!(trusted > 10_000, "{trusted} trusted fits");
+        for i in 0..100_000u32 {
+            let cov = (rng.next_u32() as u128) << (i % 80);
+            let var = (rng.next_u32() as u128 | 1) << (i / 7 % 80);
+            let want = ((cov << 16) / var).min(4 << 16);
+            assert_eq!(slope_q16(cov, var) as u128, want, "{cov} / {var}");
+        }
+        let wide = u128::MAX >> 2;
+        assert_eq!(div_u128_u32(wide, 3), wide / 3);
+        assert_eq!(div_u128_u32(wide, u32::MAX), wide / u32::MAX as u128);
     }
 
     #[test]

@@ -358,7 +358,7 @@ fn bins_of_run<const BPP: usize>(
     let Some(last) = (count as usize).checked_sub(1) else {
         return;
     };
-    let stride = step.max(1) * BPP; // >= BPP
+    let stride = step.max(1) * BPP; // >= BPP, unless it wraps
     let start = x0.saturating_mul(BPP);
     // First byte of the first pixel to the last byte of the last one.
     let run = last
@@ -375,20 +375,22 @@ fn bins_of_run<const BPP: usize>(
                 }
             }
         }
-        Some(run) => {
-            let (body, tail) = run.split_at(last * stride);
-            for chunk in body.chunks_exact(stride) {
+        // `last` chunks of `stride` bytes and the last pixel's `BPP` bytes left over (or,
+        // for a stride of `BPP`, `last + 1` chunks and nothing left over).
+        Some(run) if stride > 0 => {
+            let mut chunks = run.chunks_exact(stride);
+            for chunk in &mut chunks {
                 if let Some(px) = chunk.first_chunk::<BPP>() {
                     f(bin(px));
                 }
             }
-            if let Some(px) = tail.first_chunk::<BPP>() {
+            if let Some(px) = chunks.remainder().first_chunk::<BPP>() {
                 f(bin(px));
             }
         }
         // Partly past the row's end (never for the windows of `crate::window`): one by
         // one, bin 0 past the end.
-        None => {
+        _ => {
             let mut x = x0;
             for _ in 0..count {
                 let px = x

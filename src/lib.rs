@@ -2,6 +2,7 @@
 //!
 //! # Layers, from the bottom
 //! - [`fixed`]: the Q16.16 number type; saturating arithmetic and square root.
+//! - `trig` (private): cosine and sine of whole fractions of a turn, integer only.
 //! - [`rng`]: seeded Xoshiro128++ draws, uniform and standard normal, without floats.
 //! - [`image`]: [`image::ImageView`], a checked borrowed frame, and its pixel formats.
 //! - [`window`]: the pixels of an elliptical window, clipped to the frame, with their
@@ -32,4 +33,5 @@ pub mod profile;
 pub mod resample;
 pub mod rng;
 pub mod tracker;
+mod trig;
 pub mod window;

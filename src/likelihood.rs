@@ -60,9 +60,21 @@ impl CostScale {
         Some(Self(Q16::from_f64(1.0 / (2.0 * sigma * sigma))))
     }
 
-    /// From a sigma in Q16.16 (same range as [`CostScale::from_sigma`]).
+    /// From a sigma in Q16.16 (same range as [`CostScale::from_sigma`]), in integer
+    /// arithmetic: `1 / (2 sigma^2)` is `2^47 / bits^2` in Q16.16 (`bits` = `sigma`'s
+    /// raw value), rounded to nearest, the value `from_sigma(sigma.to_f64())` gives
+    /// (checked for every sigma in the range).
     pub fn from_sigma_q16(sigma: Q16) -> Option<Self> {
-        Self::from_sigma(sigma.to_f64())
+        // 0.01 and 10 in Q16.16: 655.36 rounded up, and 655,360.
+        let bits = sigma.to_bits();
+        if !(656..=655_360).contains(&bits) {
+            return None;
+        }
+        let square = bits as u64 * bits as u64;
+        let quotient = (1u64 << 47).checked_div(square)?;
+        let half_up = 2 * ((1u64 << 47) - quotient * square) >= square;
+        // At most 2^47 / 656^2 + 1 < 2^29.
+        Some(Self(Q16::from_bits((quotient + half_up as u64) as i32)))
     }
 
     /// `distance / (2 sigma^2)`, saturating.
@@ -98,6 +110,19 @@ mod tests {
         assert!(CostScale::from_sigma(f64::NAN).is_none());
         let s = CostScale::from_sigma(0.01).unwrap(); // 5000
         assert_eq!(s.cost(Q16::MAX), Q16::MAX);
+    }
+
+    #[test]
+    fn integer_scale_equals_the_float_one_for_every_sigma() {
+        for bits in 0..=700_000 {
+            let sigma = Q16::from_bits(bits);
+            assert_eq!(
+                CostScale::from_sigma_q16(sigma),
+                CostScale::from_sigma(sigma.to_f64()),
+                "{bits}"
+            );
+        }
+        assert_eq!(CostScale::from_sigma_q16(Q16::from_int(-1)), None);
     }
 
     #[test]

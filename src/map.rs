@@ -97,15 +97,18 @@ impl ObjectMap {
     ) -> u32 {
         const { assert!(Bn::BINS == B, "the binning must have B bins") };
         let (width, height) = (img.width() as i32, img.height() as i32);
-        let left = region.x0.round_int().clamp(0, width - 1);
-        let top = region.y0.round_int().clamp(0, height - 1);
-        let right = region.x1.round_int().clamp(left + 1, width);
-        let bottom = region.y1.round_int().clamp(top + 1, height);
+        // `clamp` as `max` then `min`: the same for a frame of at least one pixel, with no
+        // `lo <= hi` assertion.
+        let left = region.x0.round_int().max(0).min(width - 1);
+        let top = region.y0.round_int().max(0).min(height - 1);
+        let right = region.x1.round_int().max(left + 1).min(width);
+        let bottom = region.y1.round_int().max(top + 1).min(height);
         let side = SIDE as i32;
         let cell = ((right - left).max(bottom - top) + side - 1) / side;
         let cell = cell.max(1);
         let cols = ((right - left + cell - 1) / cell) as usize;
-        let rows = ((bottom - top + cell - 1) / cell) as usize;
+        // At most `SIDE`, as the cell is at least a `SIDE`-th of the longer side.
+        let rows = (((bottom - top + cell - 1) / cell) as usize).min(SIDE);
         // Sample each cell's centre, moved left (up) where the last cell's centre would
         // leave the frame; the last cell starts inside it.
         let last_x = left + (cols as i32 - 1) * cell;

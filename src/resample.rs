@@ -108,7 +108,7 @@ impl core::error::Error for ResampleError {}
 /// Cost: when the sum is a power of two (weights already normalised sum to `2^24`) a shift
 /// per weight, no division; when it is below `2^40` (any `2^16` weights below `2^24`
 /// each, or the tracker's weights, which sum to at most `2^32`) one `u64` division per
-/// weight; only larger sums take a `u128` division per weight.
+/// weight; only larger sums take 24 steps of binary long division per weight.
 pub fn normalise(weights: &mut [u32]) -> Normalised {
     let sum: u64 = weights.iter().map(|&w| w as u64).sum();
     let (total, all_zero) = if sum == 0 {
@@ -134,15 +134,36 @@ pub fn normalise(weights: &mut [u32]) -> Normalised {
         // cum <= total < 2^40, so cum << 24 fits a u64.
         rescale(weights, weight, |cum| (cum << WEIGHT_TOTAL_LOG2) / total);
     } else {
-        rescale(weights, weight, |cum| {
-            (((cum as u128) << WEIGHT_TOTAL_LOG2) / total as u128) as u64
-        });
+        rescale(weights, weight, |cum| scaled_long(cum, total));
     }
     if all_zero {
         Normalised::AllZero
     } else {
         Normalised::Scaled
     }
+}
+
+/// `floor(cum 2^24 / total)` for `cum <= total`, exactly, by binary long division: one
+/// quotient bit per step, no `u128` (where `cum << 24` does not fit a `u64`).
+fn scaled_long(cum: u64, total: u64) -> u64 {
+    // The integer part is 0 or 1; the remainder stays below `total`.
+    let (mut quotient, mut rem) = match cum.checked_sub(total) {
+        Some(rem) => (1, rem),
+        None => (0, cum),
+    };
+    for _ in 0..WEIGHT_TOTAL_LOG2 {
+        // 2 rem < 2 total, so one subtraction brings it below `total` again; `carry` is
+        // the doubled remainder's bit 64, and the wrapping subtraction is then exact.
+        let (doubled, carry) = rem.overflowing_add(rem);
+        let bit = carry || doubled >= total;
+        rem = if bit {
+            doubled.wrapping_sub(total)
+        } else {
+            doubled
+        };
+        quotient = quotient << 1 | bit as u64;
+    }
+    quotient
 }
 
 /// Replaces each weight by `edge(C_i) - edge(C_{i-1})`, `C_i` the running sum of
@@ -428,7 +449,7 @@ mod tests {
         assert_eq!(normalise(&mut empty), Normalised::AllZero);
     }
 
-    /// Every path of `normalise` (shift, u64 and u128 division) gives the cumulative
+    /// Every path of `normalise` (shift, u64 division, long division) gives the cumulative
     /// rounding `floor(C_i 2^24 / C)` computed in u128; `spaced` gives
     /// `floor((k 2^24 + u) / M)` for every `k`.
     #[test]
@@ -471,6 +492,29 @@ mod tests {
             let mut wide = vec![0u16; m];
             spaced_wide(&cum, &mut wide, |k| offsets[k]);
             assert_eq!(fast, wide, "trial {trial}");
+        }
+    }
+
+    /// The long division of sums from `2^40` to `2^64 - 1` equals the `u128` formula.
+    #[test]
+    fn long_division_is_exact() {
+        let mut r = Rng::new(8);
+        for trial in 0..20_000u32 {
+            let total = match trial % 4 {
+                0 => u64::MAX - r.below(1000) as u64,
+                1 => (1 << 40) + r.next_u32() as u64,
+                _ => ((r.next_u32() as u64) << 32 | r.next_u32() as u64) | 1 << 40,
+            };
+            let cum = match trial % 3 {
+                0 => total,
+                1 => total - (r.next_u32() as u64).min(total),
+                _ => {
+                    let any = (r.next_u32() as u64) << 32 | r.next_u32() as u64;
+                    total.checked_add(1).map_or(any, |m| any % m)
+                }
+            };
+            let expected = ((cum as u128) << WEIGHT_TOTAL_LOG2) / total as u128;
+            assert_eq!(scaled_long(cum, total) as u128, expected, "{cum} / {total}");
         }
     }
 

@@ -1,6 +1,6 @@
 //! Cortex-M board support for the example firmware: cycle and instruction counters for
-//! [`rbtrack::profile::CycleCounter`], the SysTick calibration, the static frame buffer
-//! and the stack high-water mark.
+//! [`rbtrack::profile::CycleCounter`], the SysTick calibration, the static frame buffer,
+//! the stack high-water mark and the no-panic proof's panic handler ([`unlinkable`]).
 //!
 //! # Counting
 //! On a real Cortex-M4/M7 the DWT cycle counter `CYCCNT` counts core clock cycles:
@@ -164,5 +164,20 @@ pub fn stack_use() -> StackUse {
     StackUse {
         size: (top - bottom) as u32,
         used: (top - addr) as u32,
+    }
+}
+
+/// Never returns, and never links: it calls `rbtrack_panic_path_is_reachable`, a function
+/// defined nowhere. The panic handler of the no-panic proof (`examples/no_panic.rs`), which
+/// therefore links only if the optimiser removed every call to it.
+pub fn unlinkable() -> ! {
+    extern "C" {
+        fn rbtrack_panic_path_is_reachable() -> !;
+    }
+    // SAFETY: a program in which this call survives optimisation fails to link (undefined
+    // symbol), so it never runs.
+    #[allow(unsafe_code)]
+    unsafe {
+        rbtrack_panic_path_is_reachable()
     }
 }

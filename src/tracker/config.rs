@@ -188,7 +188,7 @@ impl core::error::Error for ConfigError {}
 
 /// `n / den` rounded to nearest (half away from zero), Q16.16: a decimal constant in a
 /// `const` context, equal to `Q16::from_f64` of it (checked in the tests).
-const fn decimal(n: i64, den: i64) -> Q16 {
+pub(super) const fn decimal(n: i64, den: i64) -> Q16 {
     let scaled = n * 65536;
     let half = den / 2;
     let rounded = if scaled >= 0 {
@@ -421,7 +421,7 @@ impl Config {
                 "kalman_r",
             ),
             (
-                (Q16::from_f64(0.01)..=Q16::HALF).contains(&self.scale_step),
+                (decimal(1, 100)..=Q16::HALF).contains(&self.scale_step),
                 "scale_step",
             ),
             (

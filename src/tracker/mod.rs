@@ -734,7 +734,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         if self.config.size_measurement == SizeMeasurement::Contrast {
             // The largest scale's ring, with a margin for the map's whole cells.
             let (_, largest) = scaled(SCALE_STEPS[SCALE_STEPS.len() - 1]);
-            let reach = self.config.contrast_ring * Q16::from_f64(1.1);
+            let reach = self.config.contrast_ring * const { config::decimal(11, 10) };
             self.build_map(frame, &self.contrast_span(&largest, reach));
         }
         // (score, factor, usable): the highest score among the scales, the first on a tie.

@@ -1,0 +1,160 @@
+//! A link-time proof that the tracker's public API cannot panic on any data.
+//!
+//! ```sh
+//! cargo build --release --example no_panic --target thumbv7em-none-eabihf
+//! ```
+//!
+//! The panic handler calls `rbtrack_panic_path_is_reachable`, a function declared (by
+//! `rbtrack_firmware::board::unlinkable`) and defined nowhere, so the example links only if
+//! the optimiser removed every call to the panic handler: every bounds check, `unwrap`,
+//! division by zero, `clamp` and slice split on the paths below was proven unreachable.
+//! Otherwise the link fails with `undefined symbol: rbtrack_panic_path_is_reachable`. To
+//! find the panic site, link with the symbol defined and list the functions that branch to
+//! `core::panicking`:
+//!
+//! ```sh
+//! RUSTFLAGS="-C link-arg=-Tlink.x -C link-arg=--defsym=rbtrack_panic_path_is_reachable=0" \
+//!   cargo build --release --example no_panic --target thumbv7em-none-eabihf --target-dir target/probe
+//! llvm-objdump -d -C target/probe/thumbv7em-none-eabihf/release/examples/no_panic \
+//!   | grep -E '^[0-9a-f]+ <|bl.*<core::panicking' | grep -B1 'core::panicking'
+//! ```
+//!
+//! Reached for every pixel format (`Gray8`, `Rgb565Le`, `Rgb565Be`, `Rgb888`, `Yuyv`,
+//! `Uyvy`), on frames made by `ImageView::new` and `ImageView::from_words` from a buffer,
+//! width, height and stride the optimiser cannot see (through [`core::hint::black_box`]),
+//! for every binning (`Tracker<Rgb8x8x8, 100, 512>`, `Tracker<Rgb8x8x4, 200, 256>`,
+//! `Tracker<Yuv8x8x4, 1, 256>`, `Tracker<Luma64, 8, 64>`), with a `Config` and initial
+//! ellipses it cannot see either (so both variants and every setting are live):
+//! `Tracker::unstarted`, `start`, `new`, `reset`, `step`, `step_profiled` (with a counter
+//! that may read anything) and the getters `estimate`, `config`, `particles`,
+//! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
+//! `leaf_covariance` and `scale_per_row`.
+//!
+//! The proof is the link; the program is not meant to be run. On a hosted target it is an
+//! empty program.
+#![cfg_attr(target_os = "none", no_std, no_main)]
+
+#[cfg(not(target_os = "none"))]
+fn main() {
+    println!("no_panic: build with --target thumbv7em-none-eabihf (see examples/no_panic.rs)");
+}
+
+#[cfg(target_os = "none")]
+mod proof {
+    use core::hint::black_box;
+    use cortex_m_rt::entry;
+    use rbtrack::fixed::Q16;
+    use rbtrack::image::{
+        Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4,
+        Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
+    };
+    use rbtrack::profile::CycleCounter;
+    use rbtrack::tracker::{Config, Tracker, Variant};
+    use rbtrack::window::Ellipse;
+
+    /// The frames' bytes, as bytes and as the 32-bit words a DMA engine fills.
+    static BYTES: [u8; 4096] = [0; 4096];
+    static WORDS: [u32; 1024] = [0; 1024];
+
+    /// A counter that may read any value, in any order.
+    struct AnyCounter;
+
+    impl CycleCounter for AnyCounter {
+        fn now(&mut self) -> u32 {
+            black_box(0)
+        }
+    }
+
+    /// A frame of format `P` whose bytes, width, height and stride the optimiser cannot
+    /// see, from bytes or from words; `None` if `ImageView` refuses it.
+    fn any_frame<P: PixelFormat>() -> Option<ImageView<'static, P>> {
+        let (width, height, stride) = black_box((32, 24, 32));
+        let frame = if black_box(false) {
+            ImageView::from_words(black_box(&WORDS[..]), width, height, stride)
+        } else {
+            ImageView::new(black_box(&BYTES[..]), width, height, stride)
+        };
+        frame.ok()
+    }
+
+    /// An ellipse the optimiser cannot see.
+    fn any_ellipse() -> Ellipse {
+        black_box(Ellipse::new(
+            Q16::from_int(16),
+            Q16::from_int(12),
+            Q16::from_int(6),
+            Q16::from_int(8),
+        ))
+    }
+
+    /// A configuration the optimiser cannot see: any variant, any value of every field.
+    fn any_config() -> Config {
+        black_box(Config::new(Variant::Rbpf))
+    }
+
+    /// Every getter, its result made observable.
+    fn read<Bn: Binning, const N: usize, const B: usize>(tracker: &Tracker<Bn, N, B>) {
+        black_box(tracker.estimate());
+        black_box(tracker.config());
+        black_box(tracker.particles());
+        black_box(tracker.last_resampling());
+        black_box(tracker.last_scale_factor());
+        black_box(tracker.pixels_visited());
+        black_box(tracker.weight_recoveries());
+        black_box(tracker.leaf_covariance());
+        black_box(tracker.scale_per_row());
+    }
+
+    /// The whole public life of a tracker on frames of format `P`: built in place and by
+    /// value, stepped, profiled, reset, read.
+    fn exercise<Bn: Binning, const N: usize, const B: usize, P: PixelFormat>(
+        tracker: &mut Tracker<Bn, N, B>,
+    ) {
+        let Some(frame) = any_frame::<P>() else {
+            return;
+        };
+        black_box(tracker.step(&frame));
+        black_box(tracker.start(any_config(), &frame, any_ellipse()).is_ok());
+        read(tracker);
+        for _ in 0..black_box(2) {
+            black_box(tracker.step(&frame));
+            black_box(tracker.step_profiled(&frame, AnyCounter));
+            read(tracker);
+        }
+        black_box(tracker.reset(&frame, any_ellipse()).is_ok());
+        black_box(tracker.step(&frame));
+        if let Ok(mut built) = Tracker::<Bn, N, B>::new(any_config(), &frame, any_ellipse()) {
+            black_box(built.step(&frame));
+            read(&built);
+        }
+    }
+
+    /// [`exercise`] for every pixel format.
+    fn every_format<Bn: Binning, const N: usize, const B: usize>(tracker: &mut Tracker<Bn, N, B>) {
+        exercise::<Bn, N, B, Gray8>(tracker);
+        exercise::<Bn, N, B, Rgb565Le>(tracker);
+        exercise::<Bn, N, B, Rgb565Be>(tracker);
+        exercise::<Bn, N, B, Rgb888>(tracker);
+        exercise::<Bn, N, B, Yuyv>(tracker);
+        exercise::<Bn, N, B, Uyvy>(tracker);
+    }
+
+    #[entry]
+    fn main() -> ! {
+        let mut colour = Tracker::<Rgb8x8x8, 100, 512>::unstarted();
+        let mut coarse = Tracker::<Rgb8x8x4, 200, 256>::unstarted();
+        let mut chroma = Tracker::<Yuv8x8x4, 1, 256>::unstarted();
+        let mut grey = Tracker::<Luma64, 8, 64>::unstarted();
+        loop {
+            every_format(&mut colour);
+            every_format(&mut coarse);
+            every_format(&mut chroma);
+            every_format(&mut grey);
+        }
+    }
+
+    #[panic_handler]
+    fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+        rbtrack_firmware::board::unlinkable()
+    }
+}
