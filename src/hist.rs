@@ -122,18 +122,54 @@ fn add_to<const B: usize>(
     true
 }
 
-/// Clears `upper` (and `lower`) and adds the pixels of the window `e` of `img`, each with
-/// its kernel weight `w` mapped by `weight` (to at most [`WEIGHT_ONE`]): every row into
-/// `upper`, or, given `lower`, the rows from the centre row `round(e.cy)` down into it.
-/// Returns the number of pixels visited (`<= cap`).
-#[inline(always)]
+/// How a fill weighs a pixel from its kernel weight `w` (Q0.16, `<= WEIGHT_ONE`).
+trait Weighting: Copy {
+    /// The pixel's weight, at most [`WEIGHT_ONE`].
+    fn weight(self, w: u32) -> u32;
+}
+
+/// A window's pixels: their kernel weight.
+#[derive(Clone, Copy)]
+struct Kernel;
+
+impl Weighting for Kernel {
+    #[inline(always)]
+    fn weight(self, w: u32) -> u32 {
+        w
+    }
+}
+
+/// A ring's pixels: [`WEIGHT_ONE`] where the outer kernel weight is in `(0, edge]`, the
+/// part of the outer ellipse outside the inner one; 0 elsewhere.
+#[derive(Clone, Copy)]
+struct Ring {
+    edge: u32,
+}
+
+impl Weighting for Ring {
+    #[inline(always)]
+    fn weight(self, w: u32) -> u32 {
+        if w > 0 && w <= self.edge {
+            WEIGHT_ONE
+        } else {
+            0
+        }
+    }
+}
+
+/// Clears `upper` (and `lower`) and adds the pixels of the window `e` of `img`, each
+/// weighed by `weighting`: every row into `upper`, or, given `lower`, the rows from the
+/// centre row `round(e.cy)` down into it. Returns the number of pixels visited
+/// (`<= cap`). One copy per weighting, called from every fill (the per-pixel loop is
+/// inlined inside it).
+#[inline(never)]
 fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
     upper: &mut Histogram<B>,
     mut lower: Option<&mut Histogram<B>>,
     img: &ImageView<'_, P>,
     e: &Ellipse,
     cap: u32,
-    weight: impl Fn(u32) -> u32,
+    weighting: impl Weighting,
 ) -> u32 {
     const { assert!(Bn::BINS == B, "the binning must have B bins") };
     upper.clear();
@@ -153,7 +189,7 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
         // The run's pixels counted from the frame's start: one slice, no row slice.
         let first = run.y * stride + run.x0;
         P::for_each_bin::<Bn>(frame, first, run.step, run.count, |bin| {
-            let w = weight(weights.next());
+            let w = weighting.weight(weights.next());
             if let Some(c) = counts.get_mut(bin as usize) {
                 if *c == 0 && w != 0 {
                     // Cannot fail: a bin enters the list once, while its count is zero.
@@ -259,7 +295,7 @@ impl<const B: usize> Histogram<B> {
         e: &Ellipse,
         cap: u32,
     ) -> u32 {
-        fill_rows::<Bn, P, B>(self, None, img, e, cap, |w| w)
+        fill_rows::<Bn, P, B>(self, None, img, e, cap, Kernel)
     }
 
     /// Clears `upper` and `lower` and fills them from the window `e` as [`Histogram::fill`]
@@ -273,7 +309,7 @@ impl<const B: usize> Histogram<B> {
         e: &Ellipse,
         cap: u32,
     ) -> u32 {
-        fill_rows::<Bn, P, B>(upper, Some(lower), img, e, cap, |w| w)
+        fill_rows::<Bn, P, B>(upper, Some(lower), img, e, cap, Kernel)
     }
 
     /// Clears the histogram and fills it from the ring between the ellipse `inner` and the
@@ -297,13 +333,7 @@ impl<const B: usize> Histogram<B> {
         // when d < 1 / scale, that is when its kernel weight 1 - d^2 exceeds 1 - 1/scale^2.
         let inv = Q16::ONE / scale.max(Q16::ONE);
         let edge = (Q16::ONE - inv * inv).to_bits().clamp(0, WEIGHT_ONE as i32) as u32;
-        fill_rows::<Bn, P, B>(self, None, img, &outer, cap, |w| {
-            if w > 0 && w <= edge {
-                WEIGHT_ONE
-            } else {
-                0
-            }
-        })
+        fill_rows::<Bn, P, B>(self, None, img, &outer, cap, Ring { edge })
     }
 
     /// [`Histogram::fill`] without clearing first (counts and the mass saturate at

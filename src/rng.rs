@@ -77,10 +77,13 @@ impl Rng {
     }
 }
 
-/// `table[i] + (table[i + 1] - table[i]) * frac / 2^frac_bits`, for `i + 1 < table.len()`.
+/// `table[i] + (table[i + 1] - table[i]) * frac / 2^frac_bits`; the callers keep
+/// `i + 1 < table.len()` (0 otherwise, never a panic).
 fn interpolate(table: &[i32], i: usize, frac: u32, frac_bits: u32) -> i32 {
-    let lo = table[i] as i64;
-    let hi = table[i + 1] as i64;
+    let (Some(&lo), Some(&hi)) = (table.get(i), table.get(i + 1)) else {
+        return 0;
+    };
+    let (lo, hi) = (lo as i64, hi as i64);
     (lo + (((hi - lo) * frac as i64) >> frac_bits)) as i32
 }
 
