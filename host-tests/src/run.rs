@@ -9,7 +9,10 @@
 use crate::metrics::BBox;
 use crate::pixels::{Format, Frame};
 use rbtrack::fixed::Q16;
-use rbtrack::image::{Gray8, ImageView, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x8, Yuv422};
+use rbtrack::image::{
+    Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4, Rgb8x8x8,
+    Yuv422, Yuv8x8x4,
+};
 use rbtrack::tracker::{Config, ConfigError, Estimate, Tracker, Variant};
 use rbtrack::window::Ellipse;
 use std::fmt;
@@ -23,18 +26,59 @@ pub const PARTICLE_COUNTS: [usize; 6] = [25, 50, 100, 200, 400, 800];
 pub struct Options {
     /// Tracker configuration (variant, seed, noise levels...).
     pub config: Config,
-    /// Particle count, one of [`PARTICLE_COUNTS`].
-    pub particles: usize,
+    /// Particles and colour bins.
+    pub shape: Shape,
 }
 
 impl Options {
-    /// The defaults for `variant`, 100 particles.
+    /// The defaults for `variant`, 100 particles, 8x8x8 RGB bins.
     pub fn new(variant: Variant) -> Self {
         Self {
             config: Config::new(variant),
-            particles: 100,
+            shape: Shape::default(),
         }
     }
+}
+
+/// The tracker's sizes: particle count and colour binning (the core's const generics).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shape {
+    /// Particle count, one of [`PARTICLE_COUNTS`].
+    pub particles: usize,
+    /// Colour binning.
+    pub bins: Bins,
+}
+
+impl Default for Shape {
+    /// 100 particles, 8x8x8 RGB bins.
+    fn default() -> Self {
+        Self {
+            particles: 100,
+            bins: Bins::Rgb8x8x8,
+        }
+    }
+}
+
+/// The core's colour binnings by name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Bins {
+    /// 512 bins, 3 bits each of R, G, B (`rbtrack::image::Rgb8x8x8`).
+    #[default]
+    #[value(name = "rgb8x8x8")]
+    #[serde(rename = "rgb8x8x8")]
+    Rgb8x8x8,
+    /// 256 bins, 3 bits of R and G, 2 of B (`Rgb8x8x4`).
+    #[value(name = "rgb8x8x4")]
+    #[serde(rename = "rgb8x8x4")]
+    Rgb8x8x4,
+    /// 256 bins, 3 bits of U and V, 2 of Y (`Yuv8x8x4`).
+    #[value(name = "yuv8x8x4")]
+    #[serde(rename = "yuv8x8x4")]
+    Yuv8x8x4,
+    /// 64 bins of luma (`Luma64`).
+    #[value(name = "luma64")]
+    Luma64,
 }
 
 /// Why a run could not start.
@@ -105,8 +149,8 @@ pub fn bbox_of(e: &Estimate) -> BBox {
     )
 }
 
-struct Runner<const N: usize> {
-    tracker: Tracker<Rgb8x8x8, N, 512>,
+struct Runner<Bn: Binning, const N: usize, const B: usize> {
+    tracker: Tracker<Bn, N, B>,
 }
 
 fn view<P: PixelFormat>(frame: &Frame) -> Result<ImageView<'_, P>, RunError> {
@@ -142,7 +186,7 @@ macro_rules! with_view {
     };
 }
 
-impl<const N: usize> Runner<N> {
+impl<Bn: Binning, const N: usize, const B: usize> Runner<Bn, N, B> {
     fn start(config: Config, frame: &Frame, init: &BBox) -> Result<Self, RunError> {
         let init = ellipse_of(init);
         let tracker =
@@ -151,7 +195,7 @@ impl<const N: usize> Runner<N> {
     }
 }
 
-impl<const N: usize> Run for Runner<N> {
+impl<Bn: Binning, const N: usize, const B: usize> Run for Runner<Bn, N, B> {
     fn step(&mut self, frame: &Frame) -> Result<Step, RunError> {
         let (estimate, elapsed) = with_view!(frame, v => {
             let start = Instant::now();
@@ -177,22 +221,32 @@ impl<const N: usize> Run for Runner<N> {
 
 /// Starts a tracker on the first frame and box `init` (0-based).
 pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Run>, RunError> {
-    fn boxed<const N: usize>(
+    fn boxed<Bn: Binning, const N: usize, const B: usize>(
         config: Config,
         frame: &Frame,
         init: &BBox,
     ) -> Result<Box<dyn Run>, RunError> {
-        Ok(Box::new(Runner::<N>::start(config, frame, init)?))
+        Ok(Box::new(Runner::<Bn, N, B>::start(config, frame, init)?))
     }
-    let config = options.config;
-    match options.particles {
-        25 => boxed::<25>(config, frame, init),
-        50 => boxed::<50>(config, frame, init),
-        100 => boxed::<100>(config, frame, init),
-        200 => boxed::<200>(config, frame, init),
-        400 => boxed::<400>(config, frame, init),
-        800 => boxed::<800>(config, frame, init),
-        n => Err(RunError::Particles(n)),
+    /// `boxed` for the binning `$bn` of `$b` bins and every particle count.
+    macro_rules! by_count {
+        ($bn:ty, $b:literal) => {
+            match options.shape.particles {
+                25 => boxed::<$bn, 25, $b>(options.config, frame, init),
+                50 => boxed::<$bn, 50, $b>(options.config, frame, init),
+                100 => boxed::<$bn, 100, $b>(options.config, frame, init),
+                200 => boxed::<$bn, 200, $b>(options.config, frame, init),
+                400 => boxed::<$bn, 400, $b>(options.config, frame, init),
+                800 => boxed::<$bn, 800, $b>(options.config, frame, init),
+                n => Err(RunError::Particles(n)),
+            }
+        };
+    }
+    match options.shape.bins {
+        Bins::Rgb8x8x8 => by_count!(Rgb8x8x8, 512),
+        Bins::Rgb8x8x4 => by_count!(Rgb8x8x4, 256),
+        Bins::Yuv8x8x4 => by_count!(Yuv8x8x4, 256),
+        Bins::Luma64 => by_count!(Luma64, 64),
     }
 }
 

@@ -238,6 +238,24 @@ fn demo_runs_another_scene() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// Every binning tracks, and the JSON names it.
+#[test]
+fn every_binning_tracks() {
+    let dir = temp_dir("bins");
+    let seq = dir.join("Tiny");
+    write_sequence(&seq, 4);
+    for bins in ["rgb8x8x8", "rgb8x8x4", "yuv8x8x4", "luma64"] {
+        let o = rbtrack(&["track", path(&seq), "--json", "--bins", bins, "--tracker", "pf"]);
+        let json = json(&o);
+        assert_eq!(json["bins"], bins);
+        assert_eq!(json["frames"], FRAMES);
+        assert!(json["miou"].as_f64().unwrap() > 0.3, "{bins}: {json}");
+    }
+    let o = rbtrack(&["track", path(&seq), "--bins", "rgb4"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--bins"), "{}", stderr(&o));
+}
+
 #[test]
 fn track_json_boxes_and_overlay() {
     let dir = temp_dir("track");

@@ -6,7 +6,7 @@ use super::TrackerKind;
 use crate::config_fields::{Preset, Setting};
 use crate::metrics::BBox;
 use crate::pixels::Format;
-use crate::run::PARTICLE_COUNTS;
+use crate::run::{Bins, Shape, PARTICLE_COUNTS};
 use crate::scene;
 use crate::sequence::{self, GtOrigin};
 use clap::error::ErrorKind;
@@ -81,6 +81,9 @@ pub struct ConfigArgs {
     /// Particles per tracker: 25, 50, 100, 200, 400 or 800
     #[arg(long, value_name = "N", default_value = "100", value_parser = particle_count)]
     pub particles: usize,
+    /// Colour bins: rgb8x8x8 (512), rgb8x8x4 (256), yuv8x8x4 (256) or luma64 (64)
+    #[arg(long, value_enum, value_name = "BINS", default_value = "rgb8x8x8")]
+    pub bins: Bins,
     /// Set a field of the tracker's configuration (repeatable), e.g. colour_sigma=0.15,
     /// cue_mix=average:0.5, readout=robust_mean:8, resampling=systematic; `variant` and
     /// `seed` give the defaults of --tracker and --seed
@@ -94,6 +97,16 @@ pub struct ConfigArgs {
     /// (the source papers' trackers, Config::paper)
     #[arg(long, value_enum, value_name = "P", default_value = "default")]
     pub preset: Preset,
+}
+
+impl ConfigArgs {
+    /// The trackers' particles and bins.
+    pub fn shape(&self) -> Shape {
+        Shape {
+            particles: self.particles,
+            bins: self.bins,
+        }
+    }
 }
 
 /// Which way box files count pixels.

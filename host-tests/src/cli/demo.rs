@@ -6,6 +6,7 @@ use super::runs::{overlay, track_frames, RunSpec};
 use super::{create_dir, emit, fail, Failure, TrackerKind};
 use crate::draw;
 use crate::pixels::Frame;
+use crate::run::Shape;
 use crate::scene::{Scene, SceneConfig};
 use rbtrack::tracker::Config;
 use std::io::Write;
@@ -42,20 +43,29 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
         let rgb = scene.render(i).map_err(fail)?;
         Frame::rgb888(w, h, rgb).map_err(fail)
     });
-    let mut runs = track_frames(&specs, PARTICLES, rendered, &truth[0], |i, frame, runs| {
-        let in_strip = strip_at.contains(&i);
-        let in_gif = gif && i % 2 == 0;
-        if in_strip || in_gif {
-            let img = overlay(frame, i, truth.get(i), runs, false)?;
-            if in_strip {
-                strip.push(img.clone());
+    let mut runs = track_frames(
+        &specs,
+        Shape {
+            particles: PARTICLES,
+            ..Shape::default()
+        },
+        rendered,
+        &truth[0],
+        |i, frame, runs| {
+            let in_strip = strip_at.contains(&i);
+            let in_gif = gif && i % 2 == 0;
+            if in_strip || in_gif {
+                let img = overlay(frame, i, truth.get(i), runs, false)?;
+                if in_strip {
+                    strip.push(img.clone());
+                }
+                if in_gif {
+                    anim.push(img);
+                }
             }
-            if in_gif {
-                anim.push(img);
-            }
-        }
-        Ok(())
-    })?;
+            Ok(())
+        },
+    )?;
     for r in &mut runs {
         r.score(&truth);
     }

@@ -12,6 +12,7 @@ use super::{
 use crate::config_fields::ConfigJson;
 use crate::metrics::{Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
 use crate::pixels::Format;
+use crate::run::{Bins, Shape};
 use crate::sequence::{self, folder_name, GtOrigin, Sequence};
 use indicatif::ProgressBar;
 use serde::Serialize;
@@ -29,6 +30,7 @@ const PLOTS: &str = "out/eval";
 struct EvalJson<'a> {
     data_dir: String,
     particles: usize,
+    bins: Bins,
     seeds: &'a [u64],
     format: &'static str,
     box_origin: &'static str,
@@ -45,7 +47,7 @@ struct EvalJson<'a> {
 /// What every sequence runs with.
 struct Plan<'a> {
     specs: &'a [RunSpec],
-    particles: usize,
+    shape: Shape,
     format: Format,
     overlay: Option<&'a Path>,
     label_seeds: bool,
@@ -116,7 +118,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     let bar = progress_bar(Some(seqs.iter().map(|s| s.len() as u64).sum()), "eval");
     let plan = Plan {
         specs: &specs,
-        particles: args.config.particles,
+        shape: args.config.shape(),
         format: args.format,
         overlay: args.overlay.as_deref(),
         label_seeds: seeds.len() > 1,
@@ -171,6 +173,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         let doc = EvalJson {
             data_dir: args.data.display().to_string(),
             particles: args.config.particles,
+            bins: args.config.bins,
             seeds: &seeds,
             format: args.format.name(),
             box_origin: args.convention.origin().name(),
@@ -320,26 +323,20 @@ fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
         f.map_err(fail)
             .and_then(|f| f.convert(format).map_err(fail))
     });
-    let mut runs = track_frames(
-        plan.specs,
-        plan.particles,
-        frames,
-        &init,
-        |i, frame, runs| {
-            plan.bar.inc(1);
-            match &overlay {
-                Some(dir) => write_overlay(
-                    dir,
-                    frame,
-                    i,
-                    seq.groundtruth.get(i),
-                    runs,
-                    plan.label_seeds,
-                ),
-                None => Ok(()),
-            }
-        },
-    )?;
+    let mut runs = track_frames(plan.specs, plan.shape, frames, &init, |i, frame, runs| {
+        plan.bar.inc(1);
+        match &overlay {
+            Some(dir) => write_overlay(
+                dir,
+                frame,
+                i,
+                seq.groundtruth.get(i),
+                runs,
+                plan.label_seeds,
+            ),
+            None => Ok(()),
+        }
+    })?;
     for r in &mut runs {
         r.score(&seq.groundtruth);
     }

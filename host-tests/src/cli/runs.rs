@@ -5,7 +5,7 @@ use super::{create_dir, fail, Failure, TrackerKind};
 use crate::draw::{self, GREEN};
 use crate::metrics::{BBox, Evaluation};
 use crate::pixels::Frame;
-use crate::run::{self, Options, RunError};
+use crate::run::{self, Options, RunError, Shape};
 use crate::sequence::GtOrigin;
 use rbtrack::tracker::{Config, ConfigError, Estimate, Status};
 use std::path::Path;
@@ -102,13 +102,13 @@ fn run_error(e: RunError, config: &Config) -> Failure {
     }
 }
 
-/// Runs every spec with `particles` particles over `frames` from `init`, the 0-based box
+/// Runs every spec in trackers of `shape` over `frames` from `init`, the 0-based box
 /// of the first frame, each frame decoded once for all of them. After each frame is
 /// tracked, `on_frame(index, frame, runs)` sees it with the runs so far (their last
 /// estimate is this frame's), e.g. to draw it. Results carry no evaluation.
 pub fn track_frames<I>(
     specs: &[RunSpec],
-    particles: usize,
+    shape: Shape,
     frames: I,
     init: &BBox,
     mut on_frame: impl FnMut(usize, &Frame, &[RunResult]) -> Result<(), Failure>,
@@ -135,7 +135,7 @@ where
     for r in &mut results {
         let options = Options {
             config: r.spec.config,
-            particles,
+            shape,
         };
         let runner =
             run::start(&options, &first, init).map_err(|e| run_error(e, &r.spec.config))?;

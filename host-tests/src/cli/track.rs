@@ -9,6 +9,7 @@ use super::{
     overrides, progress_bar, wrote, Failure, TrackerKind,
 };
 use crate::config_fields::ConfigJson;
+use crate::run::Bins;
 use crate::sequence::{self, read_groundtruth};
 use serde::Serialize;
 use std::io::Write;
@@ -22,6 +23,7 @@ struct TrackJson<'a> {
     #[serde(flatten)]
     scores: Scores,
     particles: usize,
+    bins: Bins,
     seed: u64,
     format: &'static str,
     box_origin: &'static str,
@@ -76,7 +78,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let frames = input.frames(format)?;
     let mut runs = runs::track_frames(
         &[spec],
-        args.config.particles,
+        args.config.shape(),
         frames,
         &init,
         |index, frame, runs| {
@@ -109,6 +111,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             frames,
             scores,
             particles: args.config.particles,
+            bins: args.config.bins,
             seed,
             format: format.name(),
             box_origin: origin.name(),
