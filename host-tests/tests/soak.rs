@@ -382,8 +382,16 @@ fn soak_20k_frames() {
 }
 
 /// 1,000,000 frames (500 cycles) per tracker, fixed model, each run twice.
+///
+/// Kept as the record of a known limit, and long (about a minute and a half in release):
+/// with the defaults chosen on real video (colour sigma 0.1, background-weighted halves,
+/// a random walk, re-detection with a prior), the 8-particle trackers on these 32x24
+/// frames get stuck in some cycles: on target in under half the in-view frames in 65
+/// (RBPF) and 4 (colour PF) of the 500 cycles, and in under a quarter in the worst,
+/// against at most 5 and at least a quarter asserted; on target in 0.81 and 0.95 of all
+/// in-view frames. The 20,000-frame soak in CI passes.
 #[test]
-#[ignore = "long: about 2.5 minutes in release; run with --ignored"]
+#[ignore = "known limit: stuck cycles over a million frames with the defaults (see its doc)"]
 fn soak_1m_frames() {
     check(1_000_000, false);
 }
