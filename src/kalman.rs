@@ -1150,7 +1150,7 @@ mod tests {
         }
     }
 
-    /// Regression (issue 7, found by the `kalman` fuzz target): with no measurement for
+    /// Regression (found by the `kalman` fuzz target): with no measurement for
     /// 31 steps (`Q = 4 I`), `P00` stuck at the rail while `P01` kept growing and `P`
     /// became indefinite; a negative `dt` made a variance negative. Both paths now stay
     /// positive semidefinite, and the shared one still equals the general one bit for bit.

@@ -1,4 +1,4 @@
-//! Bounded work (issue 7): a step never reads more than
+//! Bounded work: a step never reads more than
 //! `tracker::max_pixels_per_step(N, pixels_per_window)` pixels (`Tracker::pixels_visited`;
 //! the tracker module doc, "Bounded work"), whatever the target size (as large as the
 //! frame, and larger), the frames and the configuration.

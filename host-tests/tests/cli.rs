@@ -245,7 +245,15 @@ fn every_binning_tracks() {
     let seq = dir.join("Tiny");
     write_sequence(&seq, 4);
     for bins in ["rgb8x8x8", "rgb8x8x4", "yuv8x8x4", "luma64"] {
-        let o = rbtrack(&["track", path(&seq), "--json", "--bins", bins, "--tracker", "pf"]);
+        let o = rbtrack(&[
+            "track",
+            path(&seq),
+            "--json",
+            "--bins",
+            bins,
+            "--tracker",
+            "pf",
+        ]);
         let json = json(&o);
         assert_eq!(json["bins"], bins);
         assert_eq!(json["frames"], FRAMES);

@@ -1,4 +1,4 @@
-//! Fault scenes (issue 7): black frames, frames of pure noise, a frozen frame repeated,
+//! Fault scenes: black frames, frames of pure noise, a frozen frame repeated,
 //! torn frames, a target out of the frame for 50 frames and a sudden illumination
 //! change, each for both trackers over scene seeds 1 to 5 (100 particles, 320x240).
 //!

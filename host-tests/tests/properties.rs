@@ -1,4 +1,4 @@
-//! Property tests of the core's primitives (proptest; issue 7), each over random inputs
+//! Property tests of the core's primitives (proptest), each over random inputs
 //! that include the extremes:
 //! - histogram mass equals the kernel sum of the window's pixels, bin by bin;
 //! - the Bhattacharyya coefficient stays in `[0, 1]` (and a window against its own model

@@ -1,9 +1,9 @@
-//! Soak (issue 7): both trackers over a long stream of small frames (32x24 RGB565, 8
+//! Soak: both trackers over a long stream of small frames (32x24 RGB565, 8
 //! particles). The stream repeats a 2,000-frame cycle: a two-coloured target bounces
 //! around a textured background with camera noise, then leaves for 30 frames, then 10
 //! black frames and 10 frames of pure noise, then returns somewhere else.
 //!
-//! The model is fixed (`adapt_rate` 0) in the soak proper: with the default adaptive
+//! The model is fixed (`adapt_rate` 0, the default) in the soak proper: with an adaptive
 //! model the trackers drift onto frame-sized windows on these small frames (see
 //! `soak_20k_frames_adaptive_model`, ignored).
 //!
@@ -210,14 +210,16 @@ fn hash_estimate(hash: &mut u64, e: &Estimate) {
 }
 
 /// The defaults with 1 px of position noise (the frames are small) and a model that is
-/// either fixed or adapts at the default rate.
+/// either fixed or adapts at the papers' rate, 0.05 a frame.
 fn config(variant: Variant, seed: u64, adaptive: bool) -> Config {
     let mut c = Config::new(variant);
     c.seed = seed;
     c.position_noise = Q16::ONE;
-    if !adaptive {
-        c.adapt_rate = Q16::ZERO;
-    }
+    c.adapt_rate = if adaptive {
+        Q16::from_ratio(5, 100)
+    } else {
+        Q16::ZERO
+    };
     c
 }
 
@@ -396,14 +398,13 @@ fn soak_1m_frames() {
     check(1_000_000, false);
 }
 
-/// The same 20,000 frames with the default adaptive model (`adapt_rate` 0.05). Fails
-/// today: on these small frames the model takes in background whenever the estimate's
-/// window is larger than the target, until windows covering most of the frame match it
-/// with a confidence above 0.9 and the trackers report `Tracking` there (on target in
-/// about 0.15 to 0.55 of the in-view frames per cycle, against 0.75 to 0.95 with a fixed
-/// model).
+/// The same 20,000 frames with an adaptive model (`adapt_rate` 0.05). Kept as the record
+/// of a known limit: on these small frames the RBPF's model takes in background whenever
+/// its window is larger than the target, until windows covering most of the frame match
+/// it; the RBPF is on target in 0.23 of the in-view frames, below half in 8 of the 10
+/// cycles. The colour PF passes (0.99).
 #[test]
-#[ignore = "model drift: the adaptive model absorbs the background on small frames; see issue 7 note"]
+#[ignore = "known limit: the adaptive model absorbs the background on small frames (see its doc)"]
 fn soak_20k_frames_adaptive_model() {
     check(20_000, true);
 }
