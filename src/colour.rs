@@ -29,8 +29,8 @@
 //! most: `B` divisions and square roots. Windows are compared at the cost of
 //! [`Histogram::fill`] and [`Histogram::coefficient`].
 
-use crate::fixed::Q16;
-use crate::hist::{blend, sqrt_q8, Histogram, Model, PROB_ONE};
+use crate::fixed::{sqrt_q8, Q16};
+use crate::hist::{blend, Histogram, Model, PROB_ONE};
 use crate::image::{Binning, ImageView, PixelFormat};
 use crate::window::Ellipse;
 

@@ -45,8 +45,7 @@
 //! # Ok::<(), rbtrack::image::ImageError>(())
 //! ```
 
-use crate::fixed::Q16;
-use crate::hist::{isqrt32, sqrt_q8};
+use crate::fixed::{isqrt32, sqrt_q8, Q16};
 use crate::image::{ImageView, PixelFormat};
 use crate::window::Ellipse;
 

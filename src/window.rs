@@ -46,7 +46,7 @@
 //! # Ok::<(), rbtrack::image::ImageError>(())
 //! ```
 
-use crate::fixed::{div_u64_u32, Q16};
+use crate::fixed::{div_u64_u32, isqrt32, Q16};
 use crate::image::{ImageView, PixelFormat, Row};
 
 /// Kernel weight of the ellipse centre, 1.0 in Q0.16.
@@ -225,7 +225,7 @@ where
 /// ellipse and the frame, top to bottom, with at most `limit` points in all (the step is
 /// chosen for `cap`). Returns the number of points.
 ///
-/// Per row: one exact 32-bit table square root ([`crate::hist::isqrt32`]) and a few
+/// Per row: one exact 32-bit table square root ([`isqrt32`]) and a few
 /// multiplies; per window, [`sampling_step`] and two [`div_u64_u32`].
 #[inline(always)]
 pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, limit: u32, mut f: F) -> u32
@@ -283,9 +283,9 @@ where
     while j <= j_hi && visited < limit {
         // |y - cy| <= hy, so |ty| <= 1 (the additions drift by at most j units).
         let ry = (((ty as i64 * ty as i64) >> 30) as u32).min(1 << 30); // ty^2, Q2.30
-        let root = crate::hist::isqrt32((1 << 30) - ry) as u64; // sqrt(1 - ty^2), Q0.15
-                                                                // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
-                                                                // anyway.
+        let root = isqrt32((1 << 30) - ry) as u64; // sqrt(1 - ty^2), Q0.15
+                                                   // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
+                                                   // anyway.
         let half_chord = ((ax * root) >> 15) as i32;
         // Lattice points strictly inside the chord (points on the boundary weigh 0).
         let k_lo = (-((half_chord - off - 1) >> 16)).max(k_frame_lo);

@@ -10,8 +10,8 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use rbtrack::fixed::Q16;
-use rbtrack::hist::{sqrt_q8, Histogram, Model, PROB_ONE};
+use rbtrack::fixed::{sqrt_q8, Q16};
+use rbtrack::hist::{Histogram, Model, PROB_ONE};
 use rbtrack::image::{Binning, ImageView, Luma64, PixelFormat, Rgb8x8x8, Yuv8x8x4};
 use rbtrack::window::MAX_CAP;
 use rbtrack_fuzz::{with_format, EllipseSpec, Format, FrameSpec, Q};
