@@ -46,7 +46,7 @@
 //! ```
 
 use crate::fixed::{isqrt32, sqrt_q8, Q16};
-use crate::image::{ImageView, PixelFormat};
+use crate::image::{Crosses, ImageView, PixelFormat, Taps};
 use crate::window::Ellipse;
 
 /// Most boundary points per ellipse.
@@ -199,10 +199,11 @@ impl GradientCue {
     /// clamping), per point a table square root and two 32-bit divisions for the unit
     /// normal and at most one table square root for the magnitude; no 64-bit division.
     pub fn evaluate<P: PixelFormat>(&self, img: &ImageView<'_, P>, e: &Ellipse) -> Q16 {
-        let mut sampler = Direct::<false>;
-        let taps = Taps::new(img);
-        let sum =
-            (0..self.points).fold(0, |sum, k| sum + self.point(img, &taps, e, k, &mut sampler));
+        let mut sampler = Direct;
+        let crosses = img.crosses();
+        let sum = (0..self.points).fold(0, |sum, k| {
+            sum + self.point(img, &crosses, e, k, &mut sampler)
+        });
         self.mean(sum)
     }
 
@@ -219,9 +220,10 @@ impl GradientCue {
             return self.evaluate(img, e);
         }
         let mut sampler = Memoised::new(memo, img);
-        let taps = Taps::new(img);
-        let sum =
-            (0..self.points).fold(0, |sum, k| sum + self.point(img, &taps, e, k, &mut sampler));
+        let crosses = img.crosses();
+        let sum = (0..self.points).fold(0, |sum, k| {
+            sum + self.point(img, &crosses, e, k, &mut sampler)
+        });
         self.mean(sum)
     }
 
@@ -241,12 +243,12 @@ impl GradientCue {
     ) {
         // The sums (< 2^22) accumulate in `out`, then become the means.
         out.iter_mut().for_each(|g| *g = Q16::ZERO);
-        let taps = Taps::new(img);
+        let crosses = img.crosses();
         if self.memo_serves(memo, img) {
             let mut sampler = Memoised::new(memo, img);
             for k in 0..self.points {
                 for (i, g) in out.iter_mut().enumerate() {
-                    let term = self.point(img, &taps, &ellipse(i), k, &mut sampler);
+                    let term = self.point(img, &crosses, &ellipse(i), k, &mut sampler);
                     *g = Q16::from_bits(g.to_bits().wrapping_add(term as i32));
                 }
             }
@@ -276,7 +278,7 @@ impl GradientCue {
     fn point<P: PixelFormat, S: Sampler<P>>(
         &self,
         img: &ImageView<'_, P>,
-        taps: &Taps<'_, P>,
+        crosses: &Crosses<'_, P>,
         e: &Ellipse,
         k: usize,
         sampler: &mut S,
@@ -326,14 +328,14 @@ impl GradientCue {
         // Positions are monotone in j, so the two ends bound the segment.
         let ends_interior = || {
             let ((x0, y0), (x1, y1)) = (at(-search), at(search));
-            taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1))
+            crosses.inside(x0.min(x1), y0.min(y1)) && crosses.inside(x0.max(x1), y0.max(y1))
         };
         let mut best = 0u32;
         // (Half-open ranges: an inclusive one tests its exhaustion flag every step.)
         if interior || ends_interior() {
             for j in -search..search + 1 {
                 let (x, y) = at(j);
-                best = best.max(sampler.interior(taps, x, y));
+                best = best.max(sampler.interior(crosses, x, y));
             }
         } else {
             for j in -search..search + 1 {
@@ -356,23 +358,19 @@ impl GradientCue {
 
 /// Where [`GradientCue`] gets a squared gradient magnitude at an in-frame pixel.
 trait Sampler<P: PixelFormat> {
-    /// At `(x, y)`, all of whose taps are inside the frame ([`Taps::interior`]).
-    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32;
+    /// At `(x, y)`, whose cross of taps lies in the frame ([`Crosses::inside`]).
+    fn interior(&mut self, crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32;
     /// At `(x, y)` in the frame, taps clamped.
     fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32;
 }
 
-/// Computes every gradient; `CLAMPED` also the interior ones through the clamping path
-/// (the tests compare the two).
-struct Direct<const CLAMPED: bool>;
+/// Computes every gradient.
+struct Direct;
 
-impl<P: PixelFormat, const CLAMPED: bool> Sampler<P> for Direct<CLAMPED> {
+impl<P: PixelFormat> Sampler<P> for Direct {
     #[inline(always)]
-    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
-        if CLAMPED {
-            return gradient_sq(&taps.img, x, y);
-        }
-        taps.gradient_sq(x as usize, y as usize)
+    fn interior(&mut self, crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
+        interior_gradient_sq(crosses, x, y)
     }
     #[inline(always)]
     fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
@@ -508,11 +506,11 @@ impl<'m> Memoised<'m> {
     }
 }
 
-/// `taps.gradient_sq(x, y)` out of line: the memo's miss path, kept out of the look-up
+/// [`interior_gradient_sq`] out of line: the memo's miss path, kept out of the look-up
 /// loop so that its registers stay free.
 #[inline(never)]
-fn interior_miss<P: PixelFormat>(taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
-    taps.gradient_sq(x as usize, y as usize)
+fn interior_miss<P: PixelFormat>(crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
+    interior_gradient_sq(crosses, x, y)
 }
 
 /// [`gradient_sq`] out of line (the memo's miss path at the frame border).
@@ -523,11 +521,11 @@ fn clamped_miss<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
 
 impl<P: PixelFormat> Sampler<P> for Memoised<'_> {
     #[inline(always)]
-    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
+    fn interior(&mut self, crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
         let (slot, key) = self.slot(x, y);
         match self.hit(slot, key) {
             Some(value) => value,
-            None => self.store(slot, key, interior_miss(taps, x, y)),
+            None => self.store(slot, key, interior_miss(crosses, x, y)),
         }
     }
     #[inline(always)]
@@ -572,94 +570,39 @@ fn unit_normal(c: i32, s: i32, hx: i32, hy: i32) -> (i32, i32) {
     (if c < 0 { -ux } else { ux }, if s < 0 { -uy } else { uy })
 }
 
-/// Unclamped 5-tap gradients of a frame's interior.
-struct Taps<'a, P: PixelFormat> {
-    img: ImageView<'a, P>,
-    bytes: &'a [u8],
-    row: usize,
-    width: i32,
-    height: i32,
-    format: core::marker::PhantomData<P>,
+/// The 5-tap derivative `I(+2) + 2 I(+1) - 2 I(-1) - I(-2)` of the taps `[I(-2), I(-1),
+/// I(+1), I(+2)]` of a line, `-765..=765`.
+#[inline(always)]
+fn derivative(taps: Taps) -> i32 {
+    let [before2, before1, after1, after2] = taps;
+    after2 + 2 * after1 - 2 * before1 - before2
 }
 
-impl<'a, P: PixelFormat> Taps<'a, P> {
-    fn new(img: &ImageView<'a, P>) -> Self {
-        Self {
-            img: *img,
-            bytes: img.as_bytes(),
-            row: img.stride() * P::BYTES_PER_PIXEL,
-            width: img.width() as i32,
-            height: img.height() as i32,
-            format: core::marker::PhantomData,
-        }
-    }
+/// `gx^2 + gy^2`, `0..=2 * 765^2`.
+#[inline(always)]
+fn squared([gx, gy]: [i32; 2]) -> u32 {
+    (gx * gx + gy * gy) as u32
+}
 
-    /// Whether all taps of `(x, y)` are inside the frame.
-    #[inline(always)]
-    fn interior(&self, x: i32, y: i32) -> bool {
-        x >= 2 && x + 2 < self.width && y >= 2 && y + 2 < self.height
-    }
-
-    /// `(gx, gy)` at an [`Taps::interior`] pixel, reading the 8 taps at their byte
-    /// offsets in the frame (the invariants of `ImageView::new` keep every row's pixels in
-    /// the buffer, and the reads are checked regardless): the same bytes as the clamped
-    /// taps, without clamping or slicing each one.
-    #[inline(always)]
-    fn gradient(&self, x: usize, y: usize) -> (i32, i32) {
-        let (px, row) = (P::BYTES_PER_PIXEL, self.row);
-        let i = y.wrapping_mul(row).wrapping_add(x.wrapping_mul(px));
-        let l = |bytes: &[u8], index: usize| P::luma_at_byte(bytes, index) as i32;
-        // The five pixels of the centre row in one slice of known length.
-        let gx = match self
-            .bytes
-            .get(i.wrapping_sub(2 * px)..i.wrapping_add(3 * px))
-        {
-            Some(r) => l(r, 4 * px) + 2 * l(r, 3 * px) - 2 * l(r, px) - l(r, 0),
-            None => 0,
-        };
-        let gy = match self
-            .bytes
-            .get(i.wrapping_sub(2 * row)..i.wrapping_add(2 * row + px))
-        {
-            Some(c) => l(c, 4 * row) + 2 * l(c, 3 * row) - 2 * l(c, row) - l(c, 0),
-            None => 0,
-        };
-        (gx, gy)
-    }
-
-    /// `gx^2 + gy^2` at an [`Taps::interior`] pixel.
-    #[inline(always)]
-    fn gradient_sq(&self, x: usize, y: usize) -> u32 {
-        let (gx, gy) = self.gradient(x, y);
-        (gx * gx + gy * gy) as u32
-    }
+/// `gx^2 + gy^2` at `(x, y)` (px), whose cross of taps lies in the frame
+/// ([`Crosses::inside`]): the taps read unclamped.
+#[inline(always)]
+fn interior_gradient_sq<P: PixelFormat>(crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
+    squared(crosses.cross(x as usize, y as usize, derivative))
 }
 
 /// The 5-tap gradient `(gx, gy)` at `(x, y)` (px; clamped into the frame first), taps
 /// clamped into the frame; each component in `-765..=765`.
 #[inline]
 pub fn gradient<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> (i32, i32) {
-    let (xc, yc) = img.clamp(x, y);
-    let (x, y) = (xc as i32, yc as i32); // <= MAX_SIDE: the taps cannot overflow
-    let taps = Taps::new(img);
-    if taps.interior(x, y) {
-        return taps.gradient(xc, yc);
-    }
-    let row = img.row(yc);
-    let col = |dx: i32| img.clamp(x + dx, y).0;
-    let gx = row.luma(col(2)) as i32 + 2 * row.luma(col(1)) as i32
-        - 2 * row.luma(col(-1)) as i32
-        - row.luma(col(-2)) as i32;
-    let at = |dy: i32| img.row(img.clamp(x, y + dy).1).luma(xc) as i32;
-    let gy = at(2) + 2 * at(1) - 2 * at(-1) - at(-2);
+    let [gx, gy] = img.clamped_cross(x, y, derivative);
     (gx, gy)
 }
 
 /// Squared gradient magnitude `gx^2 + gy^2` at `(x, y)` (px), `0..=2 * 765^2`.
 #[inline]
 pub fn gradient_sq<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-    let (gx, gy) = gradient(img, x, y);
-    (gx * gx + gy * gy) as u32
+    squared(img.clamped_cross(x, y, derivative))
 }
 
 #[cfg(test)]
@@ -854,6 +797,19 @@ mod tests {
         }
     }
 
+    /// Reads every gradient of its frame, interior ones included, through the clamping
+    /// path.
+    struct Clamped<'a, P: PixelFormat>(ImageView<'a, P>);
+
+    impl<P: PixelFormat> Sampler<P> for Clamped<'_, P> {
+        fn interior(&mut self, _: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
+            gradient_sq(&self.0, x, y)
+        }
+        fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
+            gradient_sq(img, x, y)
+        }
+    }
+
     /// The cue with interior segments read unclamped equals the cue with every sample
     /// clamped, over random windows inside, across and outside the frame.
     #[test]
@@ -873,10 +829,11 @@ mod tests {
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
             );
-            let mut clamped = Direct::<true>;
-            let taps = Taps::new(&img);
-            let sum =
-                (0..c.points).fold(0, |sum, k| sum + c.point(&img, &taps, &e, k, &mut clamped));
+            let mut clamped = Clamped(img);
+            let crosses = img.crosses();
+            let sum = (0..c.points).fold(0, |sum, k| {
+                sum + c.point(&img, &crosses, &e, k, &mut clamped)
+            });
             assert_eq!(c.evaluate(&img, &e), c.mean(sum), "window {i}: {e:?}");
         }
     }

@@ -135,7 +135,7 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
     }
     let split = e.cy.round_int().max(0) as usize;
     let cap = cap.min(MAX_CAP);
-    let (frame, stride) = (img.as_bytes(), img.stride());
+    let runs = img.runs();
     let n = rows(img, e, cap, cap, |run| {
         let h = match lower.as_deref_mut() {
             Some(lower) if run.y >= split => lower,
@@ -143,9 +143,7 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
         };
         let (counts, touched) = (&mut h.counts, &mut h.touched);
         let mut weights = run.weights;
-        // The run's pixels counted from the frame's start: one slice, no row slice.
-        let first = run.y * stride + run.x0;
-        P::for_each_bin::<Bn>(frame, first, run.step, run.count, |bin| {
+        runs.for_each_bin::<Bn>(run.y, run.x0, run.step, run.count, |bin| {
             let w = weighting.weight(weights.next());
             if let Some(c) = counts.get_mut(bin as usize) {
                 if *c == 0 && w != 0 {

@@ -118,17 +118,17 @@ impl ObjectMap {
         (self.left, self.top, self.cell, self.cols, self.rows) = (left, top, cell, cols, rows);
         self.cell_reciprocal = ((1u64 << 32) / cell as u64).min(u32::MAX as u64) as u32;
 
-        let (frame, stride) = (img.as_bytes(), img.stride());
+        let runs = img.runs();
         self.integral[..STRIDE].fill(0);
         for r in 0..rows {
             let y = (top + r as i32 * cell + dy) as usize;
-            let first = y * stride + (left + dx) as usize;
+            let x = (left + dx) as usize;
             let (above, here) = self.integral.split_at_mut((r + 1) * STRIDE);
             let above = &above[r * STRIDE..];
             here[0] = 0;
             let mut c = 0usize;
             let mut run = 0u32;
-            P::for_each_bin::<Bn>(frame, first, cell as usize, cols as u32, |bin| {
+            runs.for_each_bin::<Bn>(y, x, cell as usize, cols as u32, |bin| {
                 run += prob.get(bin as usize).copied().unwrap_or(0) as u32;
                 c += 1;
                 if let (Some(out), Some(&up)) = (here.get_mut(c), above.get(c)) {
