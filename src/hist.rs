@@ -51,33 +51,10 @@
 
 use crate::fixed::{div_u64_u32, sqrt_q8, Q16};
 use crate::image::{Binning, ImageView, PixelFormat};
-use crate::window::{rows, visit, Ellipse, MAX_CAP, WEIGHT_ONE};
+use crate::window::{rows, Ellipse, MAX_CAP, WEIGHT_ONE};
 
 /// 1.0 in Q0.30, the scale of model probabilities.
 pub const PROB_ONE: u32 = 1 << 30;
-
-/// Adds `weight` to `counts[bin]` (saturating), listing `bin` in `touched` when its count
-/// leaves zero; returns whether `bin < B`.
-#[inline(always)]
-fn add_to<const B: usize>(
-    counts: &mut [u32; B],
-    touched: &mut heapless::Vec<u16, B>,
-    bin: u16,
-    weight: u32,
-) -> bool {
-    let Some(c) = counts.get_mut(bin as usize) else {
-        return false;
-    };
-    if *c == 0 {
-        if weight == 0 {
-            return true;
-        }
-        // Cannot fail: a bin enters the list once, while its count is zero.
-        let _ = touched.push(bin);
-    }
-    *c = c.saturating_add(weight);
-    true
-}
 
 /// How a fill weighs a pixel from its kernel weight `w` (Q0.16, `<= WEIGHT_ONE`).
 trait Weighting: Copy {
@@ -136,7 +113,7 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
     let split = e.cy.round_int().max(0) as usize;
     let cap = cap.min(MAX_CAP);
     let runs = img.runs();
-    let n = rows(img, e, cap, cap, |run| {
+    let n = rows(img, e, cap, |run| {
         let h = match lower.as_deref_mut() {
             Some(lower) if run.y >= split => lower,
             _ => &mut *upper,
@@ -147,8 +124,11 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
             let w = weighting.weight(weights.next());
             if let Some(c) = counts.get_mut(bin as usize) {
                 if *c == 0 && w != 0 {
-                    // Cannot fail: a bin enters the list once, while its count is zero.
-                    let _ = touched.push(bin);
+                    let listed = touched.push(bin);
+                    debug_assert!(
+                        listed.is_ok(),
+                        "a bin enters the list once, while its count is 0"
+                    );
                 }
                 // One window's mass is below 2^32 (window::MAX_CAP pixels of weight at
                 // most 2^16), so no count of a cleared histogram can wrap.
@@ -231,9 +211,18 @@ impl<const B: usize> Histogram<B> {
     /// Adds `weight` (Q0.16 kernel weight) to `bin` (`< B`; larger bins are ignored).
     #[inline(always)]
     pub fn add(&mut self, bin: u16, weight: u32) {
-        if add_to(&mut self.counts, &mut self.touched, bin, weight) {
-            self.mass = self.mass.saturating_add(weight);
+        let Some(c) = self.counts.get_mut(bin as usize) else {
+            return;
+        };
+        if *c == 0 && weight != 0 {
+            let listed = self.touched.push(bin);
+            debug_assert!(
+                listed.is_ok(),
+                "a bin enters the list once, while its count is 0"
+            );
         }
+        *c = c.saturating_add(weight);
+        self.mass = self.mass.saturating_add(weight);
     }
 
     /// Clears the histogram and fills it from the window `e` of `img`: at most `cap` pixels
@@ -289,27 +278,6 @@ impl<const B: usize> Histogram<B> {
         let inv = Q16::ONE / scale.max(Q16::ONE);
         let edge = (Q16::ONE - inv * inv).to_bits().clamp(0, WEIGHT_ONE as i32) as u32;
         fill_rows::<Bn, P, B>(self, None, img, &outer, cap, Ring { edge })
-    }
-
-    /// [`Histogram::fill`] without clearing first (counts and the mass saturate at
-    /// `u32::MAX`).
-    #[inline]
-    pub fn accumulate<Bn: Binning, P: PixelFormat>(
-        &mut self,
-        img: &ImageView<'_, P>,
-        e: &Ellipse,
-        cap: u32,
-    ) -> u32 {
-        const { assert!(Bn::BINS == B, "the binning must have B bins") };
-        let (counts, touched) = (&mut self.counts, &mut self.touched);
-        // One window's mass is below 2^32 (window::MAX_CAP pixels of weight <= 2^16).
-        let mut mass = 0u32;
-        let n = visit(img, e, cap, |row, x, w| {
-            add_to(counts, touched, row.bin::<Bn>(x), w);
-            mass = mass.wrapping_add(w);
-        });
-        self.mass = self.mass.saturating_add(mass);
-        n
     }
 
     /// Sets the mass to the sum of the touched bins' counts (below `2^32` after a fill).
@@ -712,7 +680,9 @@ mod tests {
         assert_eq!(hist.bhattacharyya(&m), Q16::ONE);
         // Accumulating more windows saturates the mass and the bin, never wraps.
         for _ in 0..4 {
-            hist.accumulate::<Rgb8x8x8, _>(&img, &e, u32::MAX);
+            visit(&img, &e, u32::MAX, |row, x, w| {
+                hist.add(row.bin::<Rgb8x8x8>(x), w)
+            });
         }
         assert_eq!(hist.mass(), u32::MAX);
         assert_eq!(hist.bhattacharyya(&m), Q16::ONE);

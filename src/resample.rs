@@ -86,6 +86,8 @@ pub enum ResampleError {
     TooManyParticles,
     /// No weights but a non-empty output.
     NoParticles,
+    /// More than `u32::MAX` indices asked for (an output longer than that).
+    TooManyDraws,
 }
 
 impl core::fmt::Display for ResampleError {
@@ -95,6 +97,7 @@ impl core::fmt::Display for ResampleError {
                 write!(f, "more than {MAX_PARTICLES} weights to resample")
             }
             Self::NoParticles => f.write_str("no weights to resample from"),
+            Self::TooManyDraws => write!(f, "more than {} indices to draw", u32::MAX),
         }
     }
 }
@@ -233,11 +236,12 @@ fn ess_ratio_q16(sum: u128, sum_sq: u128) -> u128 {
 /// - `weights`: one non-negative weight per particle, any scale; used as scratch (on
 ///   return it holds cumulative sums). At most [`MAX_PARTICLES`].
 /// - `rng`: random source.
-/// - `out`: receives the indices, each `< weights.len()`.
+/// - `out`: receives the indices, each `< weights.len()`; at most `u32::MAX` of them.
 ///
 /// # Returns
 /// Whether the weights were all zero (then the draw was uniform), or an error when there
-/// are too many weights or none for a non-empty `out` (`out` untouched).
+/// are too many weights, none for a non-empty `out`, or more than `u32::MAX` indices to
+/// draw (`out` untouched).
 pub fn resample(
     scheme: Scheme,
     weights: &mut [u32],
@@ -246,6 +250,9 @@ pub fn resample(
 ) -> Result<Normalised, ResampleError> {
     if weights.len() > MAX_PARTICLES {
         return Err(ResampleError::TooManyParticles);
+    }
+    if u32::try_from(out.len()).is_err() {
+        return Err(ResampleError::TooManyDraws);
     }
     if weights.is_empty() {
         return if out.is_empty() {
@@ -293,14 +300,14 @@ fn search(cum: &[u32], r: u32) -> u16 {
     j.min(cum.len().saturating_sub(1)) as u16
 }
 
-/// Evenly spaced positions `r_k = floor((k 2^24 + u_k) / M)` (`u_k < 2^24`), walked
-/// against `cum` in one pass. The quotient of `k 2^24` by `M` is carried from one `k` to
-/// the next with its remainder, so a position costs one 32-bit division (of `u_k`), not a
-/// 64-bit one.
+/// Evenly spaced positions `r_k = floor((k 2^24 + u_k) / M)` (`u_k < 2^24`, `M =
+/// out.len() <= u32::MAX`), walked against `cum` in one pass. The quotient of `k 2^24` by
+/// `M` is carried from one `k` to the next with its remainder, so a position costs one
+/// 32-bit division (of `u_k`), not a 64-bit one.
 fn spaced(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
-    let Ok(m) = u32::try_from(out.len()) else {
-        return spaced_wide(cum, out, offset);
-    };
+    let m = u32::try_from(out.len());
+    debug_assert!(m.is_ok(), "resample draws at most u32::MAX indices");
+    let Ok(m) = m else { return };
     if m == 0 {
         return;
     }
@@ -324,20 +331,6 @@ fn spaced(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
             rem -= m;
             q += 1;
         }
-    }
-}
-
-/// [`spaced`] for more than `2^32` outputs, with a 64-bit division per position.
-fn spaced_wide(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
-    let m = out.len() as u64;
-    let last = cum.len().saturating_sub(1);
-    let mut j = 0usize;
-    for (k, o) in out.iter_mut().enumerate() {
-        let r = (((k as u64) << WEIGHT_TOTAL_LOG2) + offset(k) as u64) / m;
-        while j < last && cum.get(j).is_some_and(|&c| c as u64 <= r) {
-            j += 1;
-        }
-        *o = j as u16;
     }
 }
 
@@ -407,6 +400,20 @@ mod tests {
         Scheme::Stratified,
         Scheme::Residual,
     ];
+
+    /// [`spaced`] by the definition, with a 64-bit division per position.
+    fn spaced_wide(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
+        let m = out.len() as u64;
+        let last = cum.len().saturating_sub(1);
+        let mut j = 0usize;
+        for (k, o) in out.iter_mut().enumerate() {
+            let r = (((k as u64) << WEIGHT_TOTAL_LOG2) + offset(k) as u64) / m;
+            while j < last && cum.get(j).is_some_and(|&c| c as u64 <= r) {
+                j += 1;
+            }
+            *o = j as u16;
+        }
+    }
 
     fn counts(out: &[u16], n: usize) -> Vec<usize> {
         let mut c = vec![0; n];
@@ -717,6 +724,10 @@ mod tests {
         assert_eq!(
             ResampleError::NoParticles.to_string(),
             "no weights to resample from"
+        );
+        assert_eq!(
+            ResampleError::TooManyDraws.to_string(),
+            "more than 4294967295 indices to draw"
         );
     }
 

@@ -123,13 +123,20 @@ pub fn sampling_step(e: &Ellipse, cap: u32) -> u32 {
 ///
 /// Rows are visited top to bottom and pixels left to right.
 #[inline]
-pub fn visit<'a, P, F>(img: &ImageView<'a, P>, e: &Ellipse, cap: u32, f: F) -> u32
+pub fn visit<'a, P, F>(img: &ImageView<'a, P>, e: &Ellipse, cap: u32, mut f: F) -> u32
 where
     P: PixelFormat,
     F: FnMut(&Row<'a, P>, usize, u32),
 {
     let cap = cap.min(MAX_CAP);
-    visit_limited(img, e, cap, cap, f)
+    rows(img, e, cap, |mut run| {
+        let row = img.row(run.y);
+        let mut x = run.x0;
+        for _ in 0..run.count {
+            f(&row, x, run.weights.next());
+            x += run.step;
+        }
+    })
 }
 
 /// `floor(a / s)` for `s >= 1` (0 for `s <= 0`, which callers never pass).
@@ -197,38 +204,14 @@ pub(crate) struct RowRun {
     pub weights: RowWeights,
 }
 
-/// [`visit`] with the step chosen for `cap` but the count stopped at `limit` instead
-/// (tests pass `u32::MAX` to check that the step alone keeps the count within `cap`).
-#[inline(always)]
-fn visit_limited<'a, P, F>(
-    img: &ImageView<'a, P>,
-    e: &Ellipse,
-    cap: u32,
-    limit: u32,
-    mut f: F,
-) -> u32
-where
-    P: PixelFormat,
-    F: FnMut(&Row<'a, P>, usize, u32),
-{
-    rows(img, e, cap, limit, |mut run| {
-        let row = img.row(run.y);
-        let mut x = run.x0;
-        for _ in 0..run.count {
-            f(&row, x, run.weights.next());
-            x += run.step;
-        }
-    })
-}
-
 /// The rows of [`visit`]: calls `f` once per row that has lattice points inside the
-/// ellipse and the frame, top to bottom, with at most `limit` points in all (the step is
-/// chosen for `cap`). Returns the number of points.
+/// ellipse and the frame, top to bottom, with at most `cap` points in all (px, `<=
+/// MAX_CAP`, the caller's contract). Returns the number of points.
 ///
 /// Per row: one exact 32-bit table square root ([`isqrt32`]) and a few
 /// multiplies; per window, [`sampling_step`] and two [`div_u64_u32`].
 #[inline(always)]
-pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, limit: u32, mut f: F) -> u32
+pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, mut f: F) -> u32
 where
     P: PixelFormat,
     F: FnMut(RowRun),
@@ -280,7 +263,7 @@ where
     let mut visited = 0u32;
     let mut y = (yc + j_lo * si) as usize; // y_lo..=y_hi
     let mut j = j_lo;
-    while j <= j_hi && visited < limit {
+    while j <= j_hi && visited < cap {
         // |y - cy| <= hy, so |ty| <= 1 (the additions drift by at most j units).
         let ry = (((ty as i64 * ty as i64) >> 30) as u32).min(1 << 30); // ty^2, Q2.30
         let root = isqrt32((1 << 30) - ry) as u64; // sqrt(1 - ty^2), Q0.15
@@ -291,7 +274,11 @@ where
         let k_lo = (-((half_chord - off - 1) >> 16)).max(k_frame_lo);
         let k_hi = ((off + half_chord - 1) >> 16).min(k_frame_hi);
         if k_lo <= k_hi {
-            let count = ((k_hi - k_lo + 1) as u32).min(limit - visited);
+            let points = (k_hi - k_lo + 1) as u32; // <= width
+                                                   // The step keeps the window within its cap (see the module docs): the stop at
+                                                   // `cap` is a safety belt that never acts.
+            debug_assert!(visited + points <= cap, "the lattice step exceeded the cap");
+            let count = points.min(cap - visited);
             visited += count;
             let x0 = xc + k_lo * si; // 0..width, inside the chord
                                      // A point inside the chord has |t| < 1. If it is not the anchor's column
@@ -488,7 +475,8 @@ mod tests {
                 _ => MAX_CAP - rng.below(1000),
             };
             let e = ellipse(cx, cy, hx, hy);
-            let n = visit_limited(&img, &e, cap, u32::MAX, |_, _, _| {});
+            // `rows` also asserts that its stop at `cap` never acts.
+            let n = rows(&img, &e, cap, |_| {});
             assert!(
                 n <= cap,
                 "{e:?} cap {cap}: {n} pixels, step {}",
