@@ -14,7 +14,7 @@
 //! - `primitives/*`: on the target's window of the QVGA frame: `Histogram::fill`,
 //!   `Histogram::bhattacharyya`, `GradientCue::evaluate`, resampling of 100 weights
 //!   (normalise, systematic draw), the shared Kalman covariance's predict / gain / update
-//!   and the leaf mean update of 100 particles.
+//!   and the size mean update of 100 particles.
 //!
 //! Deterministic instruction counts of the same cases: `benches/iai.rs`.
 
@@ -26,7 +26,7 @@ use rbtrack::cue::{GradientConfig, GradientCue};
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
 use rbtrack::image::{PixelFormat, Rgb8x8x8};
-use rbtrack::kalman::{BlockNoise, SharedCovariance, Sym2};
+use rbtrack::kalman::{BlockNoise, SharedCovariance, Size, Sym2};
 use rbtrack::resample::{normalise, resample, Scheme};
 use rbtrack::rng::Rng;
 use rbtrack::tracker::Variant;
@@ -132,23 +132,15 @@ fn primitives(c: &mut Criterion) {
         )
     });
     let gain = cov.gain();
-    let means: Vec<[Q16; 4]> = (0..100)
-        .map(|i| {
-            [
-                Q16::from_int(20 + i % 7),
-                Q16::ZERO,
-                Q16::from_int(9),
-                Q16::ZERO,
-            ]
-        })
+    let sizes: Vec<Size> = (0..100)
+        .map(|i| Size::at_rest(Q16::from_int(9), Q16::from_int(20 + i % 7)))
         .collect();
-    let y = [Q16::from_int(22), Q16::from_int(10)];
     c.bench_function("primitives/kalman_update_mean_100", |b| {
         b.iter_batched_ref(
-            || means.clone(),
+            || sizes.clone(),
             |m| {
-                for mean in m.iter_mut() {
-                    gain.update_mean(mean, y);
+                for size in m.iter_mut() {
+                    gain.update_mean(size, Q16::from_int(10), Q16::from_int(22));
                 }
             },
             BatchSize::SmallInput,

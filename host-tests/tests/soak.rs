@@ -229,7 +229,7 @@ fn steady_state(c: &Config) -> Sym4 {
     let mut s = SharedCovariance::new(p0, p0, noise).expect("valid noise");
     for _ in 0..10_000 {
         s.predict(Q16::ONE);
-        s.update(&mut [], [Q16::ZERO; 2]);
+        s.update(&mut [], Q16::ZERO, Q16::ZERO);
     }
     s.cov()
 }
@@ -297,7 +297,7 @@ fn soak(variant: Variant, seed: u64, frames: u64, adaptive: bool) -> Report {
         assert!(e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE);
 
         if variant == Variant::Rbpf {
-            let p = tracker.leaf_covariance();
+            let p = tracker.size_covariance();
             assert!(
                 p.is_block_diagonal() && p.y_block().is_psd() && p.x_block().is_psd(),
                 "frame {frame}: {p:?}"

@@ -19,9 +19,10 @@
 //!    normalised; if all vanished they become uniform.
 //! 3. **Update** (RBPF): the size is measured once, around the weighted mean: of five
 //!    scales `1 + {0, -1, 1, -2, 2} scale_step` of the mean predicted ellipse, the one of
-//!    highest likelihood (same cues as the particles) gives `Y = (Hy, Hx)`; every leaf mean
-//!    takes the Kalman update with the shared gain, unless that window's Bhattacharyya
-//!    coefficient is below `lost_below` (no target there: the prediction stands).
+//!    highest likelihood (same cues as the particles) gives `Y = (Hx, Hy)`; every
+//!    particle's size takes the Kalman update with the shared gain, unless that window's
+//!    Bhattacharyya coefficient is below `lost_below` (no target there: the prediction
+//!    stands).
 //! 4. **Estimate**: weighted mean, best particle or robust mean; its window's Bhattacharyya
 //!    coefficient is the confidence, which sets the [`Status`] and, when high, blends the
 //!    window's histogram into the model.
@@ -91,7 +92,7 @@ use crate::rng::Rng;
 use crate::window::{Ellipse, MAX_CAP};
 use config::Derived;
 use core::marker::PhantomData;
-use particle::{predict_leaf, scale_randomly, Bounds, Motion};
+use particle::{predict_size, scale_randomly, Bounds, Motion};
 
 /// The most pixels a step of `particles` particles with a pixel cap of `cap` px reads
 /// (see "Bounded work" in the module documentation), px.
@@ -183,7 +184,7 @@ pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
     derived: Derived,
     cue: GradientCue,
     initial_cov: Sym2,
-    leaf_cov: SharedCovariance,
+    size_cov: SharedCovariance,
     /// The random stream (`None` until [`Tracker::start`]).
     rng: Option<Rng>,
     particles: [Particle; N],
@@ -233,7 +234,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             derived: Derived::UNSET,
             cue: GradientCue::UNSET,
             initial_cov: Sym2::diagonal(Q16::ZERO, Q16::ZERO),
-            leaf_cov: SharedCovariance::UNSET,
+            size_cov: SharedCovariance::UNSET,
             rng: None,
             particles: [Particle::at(&origin); N],
             weights: [0; N],
@@ -291,12 +292,12 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let q = config.kalman_q;
         let r = config.kalman_r;
         let noise = BlockNoise::diagonal([q, q, q, q], [r, r]);
-        let leaf_cov = SharedCovariance::new(initial_cov, initial_cov, noise)
+        let size_cov = SharedCovariance::new(initial_cov, initial_cov, noise)
             .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
         check_init(&config, frame, &init)?;
         self.config = config;
-        (self.derived, self.cue, self.initial_cov, self.leaf_cov) =
-            (derived, cue, initial_cov, leaf_cov);
+        (self.derived, self.cue, self.initial_cov, self.size_cov) =
+            (derived, cue, initial_cov, size_cov);
         self.colour.configure(colour_settings(&config));
         self.memo.clear();
         self.rng = Some(Rng::new(config.seed));
@@ -340,8 +341,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.ground = GroundPlane::new();
         self.particles = [Particle::at(&init); N];
         self.weights = [WEIGHT_TOTAL / N as u32; N];
-        self.leaf_cov =
-            SharedCovariance::new(self.initial_cov, self.initial_cov, *self.leaf_cov.noise())
+        self.size_cov =
+            SharedCovariance::new(self.initial_cov, self.initial_cov, *self.size_cov.noise())
                 .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
         self.estimate = Estimate {
             ellipse: init,
@@ -449,11 +450,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.weight_recoveries
     }
 
-    /// The Kalman covariance of the leaf `(Hy, dHy, Hx, dHx)` that every particle shares
-    /// (RBPF; the colour PF leaves it at its initial value). Read-only, for checks such
-    /// as the long-run soak test.
-    pub fn leaf_covariance(&self) -> crate::kalman::Sym4 {
-        self.leaf_cov.cov()
+    /// The Kalman covariance of the particles' sizes `(Hx, dHx, Hy, dHy)`, shared by every
+    /// particle (RBPF; the colour PF leaves it at its initial value). Read-only, for checks
+    /// such as the long-run soak test.
+    pub fn size_covariance(&self) -> crate::kalman::Sym4 {
+        self.size_cov.cov()
     }
 
     fn propagate(&mut self, bounds: &Bounds) {
@@ -483,15 +484,15 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 Variant::ColourPf => scale_randomly(p, self.config.scale_noise, rng, bounds),
                 Variant::Rbpf => {
                     if searching {
-                        (p.leaf[1], p.leaf[3]) = (Q16::ZERO, Q16::ZERO);
+                        (p.size.dhx, p.size.dhy) = (Q16::ZERO, Q16::ZERO);
                     }
                     let dy = p.y - y_before;
-                    predict_leaf(p, dy, slope, rate_noise, rng, bounds)
+                    predict_size(p, dy, slope, rate_noise, rng, bounds)
                 }
             }
         }
         if self.config.variant == Variant::Rbpf {
-            self.leaf_cov.predict(Q16::ONE);
+            self.size_cov.predict(Q16::ONE);
         }
     }
 
@@ -523,7 +524,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     /// The unscaled position noise of a particle on `e`, px.
     fn nominal_noise(&self, e: &Ellipse) -> Q16 {
-        Motion::new(&self.config, Q16::ONE).position_sigma(e.hy, e.hx)
+        Motion::new(&self.config, Q16::ONE).position_sigma(e.hx, e.hy)
     }
 
     /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized
@@ -542,7 +543,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             let x = Q16::from_int(rng.below(width) as i32);
             let y = Q16::from_int(rng.below(height) as i32);
             let hy = last.hy + slope * (y - last.cy);
-            let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
+            let (hx, hy) = bounds.halves(last.hx * (hy / last.hy), hy);
             *p = Particle::at(&Ellipse {
                 cx: x,
                 cy: y,
@@ -728,7 +729,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let step = self.config.scale_step;
         let scaled = |k: i32| {
             let factor = Q16::ONE + step.mul_int(k);
-            let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+            let (hx, hy) = bounds.halves(mean.hx * factor, mean.hy * factor);
             (factor, Ellipse { hx, hy, ..mean })
         };
         if self.config.size_measurement == SizeMeasurement::Contrast {
@@ -765,23 +766,22 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 best = (score, factor, usable);
             }
         }
-        let gain = self.leaf_cov.gain();
-        self.leaf_cov.update_cov();
+        let gain = self.size_cov.gain();
+        self.size_cov.update_cov();
         let (_, factor, usable) = best;
         if !usable {
             return;
         }
         self.scale_factor = Some(factor);
-        let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+        let (hx, hy) = bounds.halves(mean.hx * factor, mean.hy * factor);
         // The slope is learnt from measured sizes (not from estimates, which already
         // follow the slope's own prediction), while tracking.
         if self.config.learn_scale_per_row && self.estimate.status == Status::Tracking {
             self.ground.observe(mean.cy, hy);
         }
-        let y = [hy, hx];
         for p in self.particles.iter_mut() {
-            gain.update_mean(&mut p.leaf, y);
-            (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0], p.leaf[2]);
+            gain.update_mean(&mut p.size, hx, hy);
+            (p.size.hx, p.size.hy) = bounds.halves(p.size.hx, p.size.hy);
         }
     }
 
@@ -797,7 +797,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             total += w;
             for (s, v) in sums
                 .iter_mut()
-                .zip([p.x, p.y, p.vx, p.vy, p.leaf[2], p.leaf[0]])
+                .zip([p.x, p.y, p.vx, p.vy, p.size.hx, p.size.hy])
             {
                 *s += w * v.to_bits() as i64;
             }
