@@ -46,8 +46,16 @@
 //! ```
 
 use crate::fixed::{isqrt32, sqrt_q8, Q16};
-use crate::image::{Crosses, ImageView, PixelFormat, Taps};
+use crate::image::{Crosses, ImageView, PixelFormat};
 use crate::window::Ellipse;
+
+mod gradient;
+mod memo;
+
+use gradient::interior_gradient_sq;
+pub use gradient::{gradient, gradient_sq};
+use memo::Memoised;
+pub use memo::{GradientMemo, MEMO_SLOTS};
 
 /// Most boundary points per ellipse.
 pub const MAX_POINTS: usize = 64;
@@ -107,6 +115,20 @@ impl GradientConfig {
             saturation: DEFAULT_SATURATION,
         }
     }
+
+    /// Checks every field against its range; the error names the first one out of it.
+    pub const fn check(&self) -> Result<(), ConfigError> {
+        if self.points < 1 || self.points > MAX_POINTS {
+            return Err(ConfigError::OutOfRange("points"));
+        }
+        if self.search_px > MAX_SEARCH_PX {
+            return Err(ConfigError::OutOfRange("search_px"));
+        }
+        if self.saturation < 1 || self.saturation > MAX_MAGNITUDE {
+            return Err(ConfigError::OutOfRange("saturation"));
+        }
+        Ok(())
+    }
 }
 
 impl Default for GradientConfig {
@@ -139,17 +161,10 @@ impl GradientCue {
         recip: 0,
     };
 
-    /// Checks `config` and tabulates the `K` angles (integer arithmetic).
+    /// Checks `config` ([`GradientConfig::check`]) and tabulates the `K` angles (integer
+    /// arithmetic).
     pub fn new(config: &GradientConfig) -> Result<Self, ConfigError> {
-        if !(1..=MAX_POINTS).contains(&config.points) {
-            return Err(ConfigError::OutOfRange("points"));
-        }
-        if config.search_px > MAX_SEARCH_PX {
-            return Err(ConfigError::OutOfRange("search_px"));
-        }
-        if !(1..=MAX_MAGNITUDE).contains(&config.saturation) {
-            return Err(ConfigError::OutOfRange("saturation"));
-        }
+        config.check()?;
         let mut cos = [Q16::ZERO; MAX_POINTS];
         let mut sin = [Q16::ZERO; MAX_POINTS];
         for (k, (c, s)) in cos.iter_mut().zip(sin.iter_mut()).enumerate() {
@@ -378,166 +393,6 @@ impl<P: PixelFormat> Sampler<P> for Direct {
     }
 }
 
-/// Slots of a [`GradientMemo`].
-pub const MEMO_SLOTS: usize = 1024;
-
-/// A per-frame memo of squared gradient magnitudes for [`GradientCue::evaluate_memo`] and
-/// [`GradientCue::evaluate_each`]: [`MEMO_SLOTS`] direct-mapped slots keyed by pixel
-/// (slot `(x + 32 y) mod 1024`: any 32 x 32 block of pixels, such as the samples of one
-/// boundary point across a particle cloud, maps to distinct slots), each holding the
-/// pixel's index in the frame tagged with an 8-bit frame generation and
-/// `min(gx^2 + gy^2, 65535)` (exact for the cue whenever the saturation is at most 255,
-/// whose square fits: larger squares all score the saturation). A look-up is a hash, a
-/// load and a compare; a miss computes the gradient and replaces the slot's entry. Values
-/// are only ever read back for the same pixel of the same generation, so results never
-/// depend on the memo. 6 KiB; frames of `2^24` pixels or more, and saturations above 255,
-/// bypass it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GradientMemo {
-    /// `generation << 24 | (y width + x)`; never matches while the slot is empty (tags
-    /// start at generation 1).
-    keys: [u32; MEMO_SLOTS],
-    values: [u16; MEMO_SLOTS],
-    /// The current generation in the top 8 bits (`1..=255`).
-    tag: u32,
-}
-
-#[cfg(feature = "defmt")]
-impl defmt::Format for GradientMemo {
-    fn format(&self, f: defmt::Formatter) {
-        defmt::write!(f, "GradientMemo {{ generation: {} }}", self.tag >> 24)
-    }
-}
-
-impl Default for GradientMemo {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl GradientMemo {
-    /// An empty memo.
-    pub const fn new() -> Self {
-        Self {
-            keys: [0; MEMO_SLOTS],
-            values: [0; MEMO_SLOTS],
-            tag: 1 << 24,
-        }
-    }
-
-    /// Every bit zero: a memo that holds nothing valid until [`GradientMemo::clear`] (an
-    /// unstarted tracker's, so that the tracker can sit in `.bss`).
-    pub(crate) const UNSTARTED: Self = Self {
-        keys: [0; MEMO_SLOTS],
-        values: [0; MEMO_SLOTS],
-        tag: 0,
-    };
-
-    /// Empties the memo in place: what [`GradientMemo::new`] gives.
-    pub fn clear(&mut self) {
-        self.keys.fill(0);
-        self.values.fill(0);
-        self.tag = 1 << 24;
-    }
-
-    /// Forgets every entry (in constant time, by moving to the next generation; every
-    /// 255 frames the slots are cleared). Call it whenever the frame changes.
-    pub fn start_frame(&mut self) {
-        self.tag = self.tag.wrapping_add(1 << 24);
-        if self.tag == 0 {
-            self.keys = [0; MEMO_SLOTS];
-            self.tag = 1 << 24;
-        }
-    }
-
-    /// Whether frames of this size fit the 24-bit pixel index.
-    fn serves<P: PixelFormat>(&self, img: &ImageView<'_, P>) -> bool {
-        img.width() * img.height() < 1 << 24
-    }
-}
-
-impl GradientCue {
-    /// Whether `memo` can serve this cue on `img` (frame below `2^24` pixels, saturation
-    /// squared below `2^16`).
-    fn memo_serves<P: PixelFormat>(&self, memo: &GradientMemo, img: &ImageView<'_, P>) -> bool {
-        memo.serves(img) && self.saturation <= 255
-    }
-}
-
-/// Reads gradients through a [`GradientMemo`].
-struct Memoised<'m> {
-    memo: &'m mut GradientMemo,
-    width: u32,
-}
-
-impl<'m> Memoised<'m> {
-    fn new<P: PixelFormat>(memo: &'m mut GradientMemo, img: &ImageView<'_, P>) -> Self {
-        Self {
-            memo,
-            width: img.width() as u32,
-        }
-    }
-
-    /// The slot of in-frame pixel `(x, y)` and its key.
-    #[inline(always)]
-    fn slot(&self, x: i32, y: i32) -> (usize, u32) {
-        let (x, y) = (x as u32, y as u32);
-        // y width + x < 2^24 for the frames the memo serves: no bit reaches the tag.
-        let key = self.memo.tag | y.wrapping_mul(self.width).wrapping_add(x);
-        let slot = (x.wrapping_add(y << 5) as usize) & (MEMO_SLOTS - 1);
-        (slot, key)
-    }
-
-    /// The memo's value in `slot` if it is `key`'s.
-    #[inline(always)]
-    fn hit(&self, slot: usize, key: u32) -> Option<u32> {
-        let slot = slot & (MEMO_SLOTS - 1);
-        (self.memo.keys[slot] == key).then(|| self.memo.values[slot] as u32)
-    }
-
-    /// Stores `value`, saturated to 16 bits, for `key` in `slot`; returns the stored value.
-    #[inline(always)]
-    fn store(&mut self, slot: usize, key: u32, value: u32) -> u32 {
-        let slot = slot & (MEMO_SLOTS - 1);
-        let value = value.min(u16::MAX as u32);
-        self.memo.keys[slot] = key;
-        self.memo.values[slot] = value as u16;
-        value
-    }
-}
-
-/// [`interior_gradient_sq`] out of line: the memo's miss path, kept out of the look-up
-/// loop so that its registers stay free.
-#[inline(never)]
-fn interior_miss<P: PixelFormat>(crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
-    interior_gradient_sq(crosses, x, y)
-}
-
-/// [`gradient_sq`] out of line (the memo's miss path at the frame border).
-#[inline(never)]
-fn clamped_miss<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-    gradient_sq(img, x, y)
-}
-
-impl<P: PixelFormat> Sampler<P> for Memoised<'_> {
-    #[inline(always)]
-    fn interior(&mut self, crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
-        let (slot, key) = self.slot(x, y);
-        match self.hit(slot, key) {
-            Some(value) => value,
-            None => self.store(slot, key, interior_miss(crosses, x, y)),
-        }
-    }
-    #[inline(always)]
-    fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-        let (slot, key) = self.slot(x, y);
-        match self.hit(slot, key) {
-            Some(value) => value,
-            None => self.store(slot, key, clamped_miss(img, x, y)),
-        }
-    }
-}
-
 /// `floor(sqrt(best) 2^MAG_FRAC_BITS)` (= `isqrt(best << 10)`) for `best < 2^21`.
 #[inline(always)]
 fn magnitude(best: u32) -> u32 {
@@ -568,41 +423,6 @@ fn unit_normal(c: i32, s: i32, hx: i32, hy: i32) -> (i32, i32) {
     let unit = |a: u32| (((a << 16) + len / 2) / len).min(1 << 16) as i32;
     let (ux, uy) = (unit(ax), unit(ay));
     (if c < 0 { -ux } else { ux }, if s < 0 { -uy } else { uy })
-}
-
-/// The 5-tap derivative `I(+2) + 2 I(+1) - 2 I(-1) - I(-2)` of the taps `[I(-2), I(-1),
-/// I(+1), I(+2)]` of a line, `-765..=765`.
-#[inline(always)]
-fn derivative(taps: Taps) -> i32 {
-    let [before2, before1, after1, after2] = taps;
-    after2 + 2 * after1 - 2 * before1 - before2
-}
-
-/// `gx^2 + gy^2`, `0..=2 * 765^2`.
-#[inline(always)]
-fn squared([gx, gy]: [i32; 2]) -> u32 {
-    (gx * gx + gy * gy) as u32
-}
-
-/// `gx^2 + gy^2` at `(x, y)` (px), whose cross of taps lies in the frame
-/// ([`Crosses::inside`]): the taps read unclamped.
-#[inline(always)]
-fn interior_gradient_sq<P: PixelFormat>(crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
-    squared(crosses.cross(x as usize, y as usize, derivative))
-}
-
-/// The 5-tap gradient `(gx, gy)` at `(x, y)` (px; clamped into the frame first), taps
-/// clamped into the frame; each component in `-765..=765`.
-#[inline]
-pub fn gradient<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> (i32, i32) {
-    let [gx, gy] = img.clamped_cross(x, y, derivative);
-    (gx, gy)
-}
-
-/// Squared gradient magnitude `gx^2 + gy^2` at `(x, y)` (px), `0..=2 * 765^2`.
-#[inline]
-pub fn gradient_sq<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-    squared(img.clamped_cross(x, y, derivative))
 }
 
 #[cfg(test)]
@@ -664,28 +484,6 @@ mod tests {
         {
             assert_eq!(magnitude(best), (best << 10).isqrt(), "{best}");
         }
-    }
-
-    #[test]
-    fn operator_on_a_ramp_and_a_step() {
-        // Horizontal ramp I = 10 x: gx = 10 (2 + 2 + 2 + 2) = 80, gy = 0.
-        let buf: Vec<u8> = (0..10 * 5).map(|i| (10 * (i % 10)) as u8).collect();
-        let img = ImageView::<Gray8>::new(&buf, 10, 5, 10).unwrap();
-        assert_eq!(gradient(&img, 5, 2), (80, 0));
-        // At the left border taps clamp: I(-1) = I(-2) = I(0) = 0 -> gx = 20 + 20 = 40.
-        assert_eq!(gradient(&img, 0, 2), (40, 0));
-        assert_eq!(gradient(&img, 9, 0), (40, 0));
-        assert_eq!(gradient_sq(&img, 5, 2), 6400);
-        // Coordinates far outside clamp, never panic.
-        assert_eq!(gradient(&img, i32::MAX, i32::MIN), (40, 0));
-        // Saturated step, 0 -> 255 between rows 2 and 3: gy = 3 * 255 at rows 2 and 3.
-        let buf: Vec<u8> = (0..6 * 6)
-            .map(|i| if i / 6 >= 3 { 255 } else { 0 })
-            .collect();
-        let img = ImageView::<Gray8>::new(&buf, 6, 6, 6).unwrap();
-        assert_eq!(gradient(&img, 2, 2), (0, 765));
-        assert_eq!(gradient(&img, 2, 3), (0, 765));
-        assert_eq!(gradient(&img, 2, 1), (0, 255));
     }
 
     #[test]
@@ -763,38 +561,6 @@ mod tests {
             .to_f64();
         // About half of the boundary is inside the frame.
         assert!(g > 0.35 && g < 0.65, "{g}");
-    }
-
-    /// The gradient with every tap read through the clamping accessor.
-    fn clamped_gradient<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> (i32, i32) {
-        let (xc, yc) = img.clamp(x, y);
-        let (x, y) = (xc as i32, yc as i32);
-        let l = |dx: i32, dy: i32| img.luma(x + dx, y + dy) as i32;
-        (
-            l(2, 0) + 2 * l(1, 0) - 2 * l(-1, 0) - l(-2, 0),
-            l(0, 2) + 2 * l(0, 1) - 2 * l(0, -1) - l(0, -2),
-        )
-    }
-
-    fn interior_and_border_agree<P: PixelFormat>(bytes_per_px: usize) {
-        let mut rng = crate::rng::Rng::new(5);
-        for (w, h, stride) in [(1, 1, 1), (4, 3, 4), (5, 5, 6), (12, 9, 16), (31, 7, 32)] {
-            let buf: Vec<u8> = (0..stride * h * bytes_per_px)
-                .map(|_| rng.below(256) as u8)
-                .collect();
-            let Ok(img) = ImageView::<P>::new(&buf, w, h, stride) else {
-                continue; // odd YUYV sizes
-            };
-            for y in -3..h as i32 + 3 {
-                for x in -3..w as i32 + 3 {
-                    assert_eq!(
-                        gradient(&img, x, y),
-                        clamped_gradient(&img, x, y),
-                        "{w}x{h} stride {stride} at ({x}, {y})"
-                    );
-                }
-            }
-        }
     }
 
     /// Reads every gradient of its frame, interior ones included, through the clamping
@@ -879,15 +645,6 @@ mod tests {
                 assert_eq!(c.evaluate_memo(&img, e, &mut memo), d, "frame {frame}");
             }
         }
-    }
-
-    #[test]
-    fn interior_fast_path_reads_the_clamped_taps() {
-        interior_and_border_agree::<Gray8>(1);
-        interior_and_border_agree::<Rgb888>(3);
-        interior_and_border_agree::<Rgb565Le>(2);
-        interior_and_border_agree::<crate::image::Rgb565Be>(2);
-        interior_and_border_agree::<Yuv422>(2);
     }
 
     #[test]
