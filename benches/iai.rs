@@ -17,7 +17,7 @@ mod common;
 
 use common::{hd_scene, qvga_scene, Scene, BINS};
 use iai_callgrind::{library_benchmark, library_benchmark_group, main};
-use rbtrack::cue::{GradientConfig, GradientCue};
+use rbtrack::cue::GradientCue;
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
 use rbtrack::image::{PixelFormat, Rgb565Le, Rgb888, Rgb8x8x8};
@@ -102,15 +102,12 @@ fn window() -> &'static mut Window {
     let mut hist = Histogram::new();
     hist.fill::<Rgb8x8x8, _>(&scene.measured(), &ellipse, config.pixels_per_window);
     let model = Model::from_histogram(&hist);
-    let mut cue = GradientConfig::new();
-    cue.points = config.gradient_points as usize;
-    cue.search_px = config.gradient_search as u32;
     Box::leak(Box::new(Window {
         scene,
         ellipse,
         hist,
         model,
-        cue: GradientCue::new(&cue).expect("default cue configuration"),
+        cue: GradientCue::new(&config.gradient()).expect("default cue configuration"),
     }))
 }
 

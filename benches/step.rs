@@ -22,7 +22,7 @@ mod common;
 
 use common::{hd_scene, qvga_scene, Scene, BINS};
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
-use rbtrack::cue::{GradientConfig, GradientCue};
+use rbtrack::cue::GradientCue;
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
 use rbtrack::image::{PixelFormat, Rgb8x8x8};
@@ -88,10 +88,7 @@ fn primitives(c: &mut Criterion) {
         b.iter(|| black_box(black_box(&hist).bhattacharyya(black_box(&model))))
     });
 
-    let mut cue_config = GradientConfig::new();
-    cue_config.points = config.gradient_points as usize;
-    cue_config.search_px = config.gradient_search as u32;
-    let cue = GradientCue::new(&cue_config).expect("default cue configuration");
+    let cue = GradientCue::new(&config.gradient()).expect("default cue configuration");
     c.bench_function("primitives/gradient_cue", |b| {
         b.iter(|| black_box(cue.evaluate(black_box(&img), black_box(&e))))
     });

@@ -1,4 +1,5 @@
-//! Likelihoods from cue costs, `exp(-cost)` by table, integer only.
+//! Likelihoods from cue costs: `exp(-cost)` by table, integer only, and the cost scale
+//! `1 / (2 sigma^2)` of a cue.
 //!
 //! A cue turns its measurement into a cost in Q16.16: the colour cue
 //! `(1 - rho) / (2 sigma_c^2)`, the gradient cue `(1 - g)^2 / (2 sigma_g^2)`. The factor
@@ -25,6 +26,10 @@ include!(concat!(env!("OUT_DIR"), "/exp_table.rs"));
 
 /// Largest cost with a non-zero likelihood, Q16.16 (16.0).
 pub const COST_MAX: Q16 = Q16::from_int(16);
+
+/// Fraction bits of a likelihood from [`exp_neg`]: Q0.16, `65535` standing for
+/// `exp(0) = 1`.
+pub const LIKELIHOOD_BITS: u32 = 16;
 
 /// `65535 * exp(-cost)` for `cost` in Q16.16; negative costs count as zero, costs at or
 /// above [`COST_MAX`] give 0. Result in `0..=65535` (Q0.16).

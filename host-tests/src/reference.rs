@@ -69,7 +69,7 @@
 //! leaves what the comparison is for: the arithmetic of propagation, cues, weights, Kalman
 //! update and read-out.
 
-use rbtrack::cue::{gradient, GradientConfig, GradientCue};
+use rbtrack::cue::{gradient, GradientCue};
 use rbtrack::fixed::Q16;
 use rbtrack::image::{Binning, ImageView, PixelFormat};
 use rbtrack::likelihood::COST_MAX;
@@ -372,10 +372,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         if n == 0 || n > rbtrack::resample::MAX_PARTICLES {
             return Err(ConfigError::ParticleCount);
         }
-        let mut gradient = GradientConfig::new();
-        gradient.points = config.gradient_points as usize;
-        gradient.search_px = config.gradient_search as u32;
-        let cue = GradientCue::new(&gradient).map_err(|_| ConfigError::OutOfRange("gradient"))?;
+        let cue = GradientCue::new(&config.gradient())?;
         let bounds = bounds(&config, frame);
         let init = RefEllipse::from_q16(init);
         let inside = |v: f64, max: f64| (0.0..=max).contains(&v);
