@@ -50,6 +50,9 @@ pub const WEIGHT_TOTAL_LOG2: u32 = 24;
 /// Sum of the weights after [`normalise`]: `2^24` (weight 1.0).
 pub const WEIGHT_TOTAL: u32 = 1 << WEIGHT_TOTAL_LOG2;
 
+/// Fraction bits the residual scheme keeps of each residual weight (see [`residual`]).
+const RESIDUAL_FRAC_BITS: u32 = 16;
+
 /// Largest number of weights [`resample`] accepts (indices are `u16`).
 pub const MAX_PARTICLES: usize = u16::MAX as usize;
 
@@ -208,7 +211,7 @@ pub fn effective_sample_size_at_least(weights: &[u32], threshold: Q16) -> bool {
     // floor(X / Y) >= T  <=>  X >= T Y for integers; sum <= 2^48 for 65535 weights, so
     // X = sum^2 2^16 <= 2^112 and T Y < 2^31 2^80: no overflow for any `MAX_PARTICLES`
     // weights, and a saturating product stays correct beyond.
-    let x = sum.saturating_mul(sum).saturating_mul(1 << 16);
+    let x = sum.saturating_mul(sum).saturating_mul(1 << Q16::FRAC_BITS);
     x >= (threshold.to_bits() as u128).saturating_mul(sum_sq)
 }
 
@@ -224,7 +227,10 @@ fn sums(weights: &[u32]) -> (u128, u128) {
 /// `sum^2 2^16 / sum_sq`, rounded down; exact for `sum <= 2^56` (e.g. 65535 weights of
 /// `u32`, `sum <= 2^48`), saturating beyond.
 fn ess_ratio_q16(sum: u128, sum_sq: u128) -> u128 {
-    match sum.checked_mul(sum).and_then(|s2| s2.checked_mul(1 << 16)) {
+    match sum
+        .checked_mul(sum)
+        .and_then(|s2| s2.checked_mul(1 << Q16::FRAC_BITS))
+    {
         Some(n) => n / sum_sq,
         None => u128::MAX,
     }
@@ -348,7 +354,8 @@ fn residual(weights: &mut [u32], rng: &mut Rng, out: &mut [u16]) {
             *o = i as u16;
         }
         filled += copies;
-        *w = ((scaled & (WEIGHT_TOTAL as u64 - 1)) >> 8) as u32;
+        *w = ((scaled & (WEIGHT_TOTAL as u64 - 1)) >> (WEIGHT_TOTAL_LOG2 - RESIDUAL_FRAC_BITS))
+            as u32;
     }
     cumulate(weights);
     let total = weights.last().copied().unwrap_or(0);

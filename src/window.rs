@@ -49,8 +49,11 @@
 use crate::fixed::{div_u64_u32, isqrt32, Q16};
 use crate::image::{ImageView, PixelFormat, Row};
 
+/// Fraction bits of a kernel weight: Q0.16.
+pub const WEIGHT_FRAC_BITS: u32 = 16;
+
 /// Kernel weight of the ellipse centre, 1.0 in Q0.16.
-pub const WEIGHT_ONE: u32 = 1 << 16;
+pub const WEIGHT_ONE: u32 = 1 << WEIGHT_FRAC_BITS;
 
 /// Largest cap on the pixels visited per window, px.
 pub const MAX_CAP: u32 = 65_535;
@@ -58,8 +61,11 @@ pub const MAX_CAP: u32 = 65_535;
 /// Smallest half-axis of a non-empty window, px, Q16.16 (0.5 px).
 pub const MIN_HALF_AXIS: Q16 = Q16::HALF;
 
-/// 1.0 in Q2.30, the scale of the normalised coordinates inside [`visit`].
-const ONE_Q30: i64 = 1 << 30;
+/// Fraction bits of the normalised coordinates inside [`visit`]: Q2.30.
+const Q30_FRAC_BITS: u32 = 30;
+
+/// 1.0 in Q2.30.
+const ONE_Q30: i64 = 1 << Q30_FRAC_BITS;
 
 /// An axis-aligned ellipse in image coordinates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -96,7 +102,7 @@ pub fn sampling_step(e: &Ellipse, cap: u32) -> u32 {
     }
     let (hx, hy) = (e.hx.to_bits() as u64, e.hy.to_bits() as u64);
     // Any step above the longer axis leaves at most one lattice point per axis.
-    let one_point = ((2 * hx.max(hy)) >> 16) + 1;
+    let one_point = ((2 * hx.max(hy)) >> Q16::FRAC_BITS) + 1;
     if cap == 1 {
         return one_point as u32;
     }
@@ -172,8 +178,8 @@ impl RowWeights {
     #[inline(always)]
     fn new(t0: i32, dt: i32, dt2: i64, e: i32, ry: u32) -> Self {
         let t = t0 as i64;
-        let w = ONE_Q30 - ry as i64 - ((t * t) >> 30);
-        let d = ((2 * t * dt as i64) >> 30) + dt2;
+        let w = ONE_Q30 - ry as i64 - ((t * t) >> Q30_FRAC_BITS);
+        let d = ((2 * t * dt as i64) >> Q30_FRAC_BITS) + dt2;
         Self {
             w: w as i32,
             d: d as i32,
@@ -185,7 +191,7 @@ impl RowWeights {
     #[inline(always)]
     #[allow(clippy::should_implement_trait)] // an infinite, infallible sequence
     pub(crate) fn next(&mut self) -> u32 {
-        let weight = (self.w.max(0) as u32) >> 14;
+        let weight = (self.w.max(0) as u32) >> (Q30_FRAC_BITS - WEIGHT_FRAC_BITS);
         self.w = self.w.wrapping_sub(self.d);
         self.d = self.d.wrapping_add(self.e);
         weight
@@ -220,14 +226,15 @@ where
     if s == 0 {
         return 0;
     }
+    let frac = Q16::FRAC_BITS;
     let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
     let (hx, hy) = (e.hx.to_bits() as u32, e.hy.to_bits() as u32); // 2^15..2^31
     let (xc, yc) = (e.cx.round_int(), e.cy.round_int()); // px, |.| <= 32768
     let si = s as i32; // 1..=65536
 
     // Rows inside the ellipse and the frame, as lattice indices j (y = yc + j s).
-    let y_lo = (-((hy as i64 - cy) >> 16)).max(0) as i32; // ceil(cy - hy)
-    let y_hi = ((cy + hy as i64) >> 16).min(img.height() as i64 - 1) as i32; // floor(cy + hy)
+    let y_lo = (-((hy as i64 - cy) >> frac)).max(0) as i32; // ceil(cy - hy)
+    let y_hi = ((cy + hy as i64) >> frac).min(img.height() as i64 - 1) as i32; // floor(cy + hy)
     if y_lo > y_hi {
         return 0;
     }
@@ -242,21 +249,22 @@ where
 
     // Reciprocal half-axes, 2^62 / h (2^31..2^47): (v - c) * inv >> 32 is (v - c) / h in
     // Q2.30 for |v - c| <= h, with a relative error below 2^-31.
-    let inv_hx = div_u64_u32(1 << 62, hx) as i64;
-    let inv_hy = div_u64_u32(1 << 62, hy) as i64;
-    // The lattice step in normalised x and y, Q2.30; past one point per row (column) the
-    // step is unused, so clamping it keeps the loops in `i32`.
-    let step_q30 = |inv: i64| ((s as u64 * inv as u64) >> 16).min(i32::MAX as u64) as i32;
+    let inv_hx = div_u64_u32(1 << (Q30_FRAC_BITS + 32), hx) as i64;
+    let inv_hy = div_u64_u32(1 << (Q30_FRAC_BITS + 32), hy) as i64;
+    // The lattice step in normalised x and y, Q2.30 (`(s << 16) inv >> 32`); past one
+    // point per row (column) the step is unused, so clamping it keeps the loops in `i32`.
+    let step_q30 = |inv: i64| ((s as u64 * inv as u64) >> (32 - frac)).min(i32::MAX as u64) as i32;
     let (dt, dty) = (step_q30(inv_hx), step_q30(inv_hy));
-    let dt2 = (dt as i64 * dt as i64) >> 30;
-    let e2 = ((2 * dt as i64 * dt as i64) >> 30).min(i32::MAX as i64) as i32;
+    let dt2 = (dt as i64 * dt as i64) >> Q30_FRAC_BITS;
+    let e2 = ((2 * dt as i64 * dt as i64) >> Q30_FRAC_BITS).min(i32::MAX as i64) as i32;
     // Normalised offsets of the lattice's column 0 and of its first row, Q2.30.
-    let norm = |v: i64, c: i64, inv: i64| (((v << 16) - c) * inv) >> 32;
+    let norm = |v: i64, c: i64, inv: i64| (((v << frac) - c) * inv) >> 32;
     let tc = norm(xc as i64, cx, inv_hx).clamp(-ONE_Q30, ONE_Q30) as i32;
     let mut ty = norm((yc + j_lo * si) as i64, cy, inv_hy).clamp(-ONE_Q30, ONE_Q30) as i32;
-    // The half-axis and the centre's offset from the anchor in lattice units, Q16.
+    // The half-axis and the centre's offset from the anchor in lattice units, Q16 (`s >= 1`:
+    // the divisions cannot fail).
     let ax = hx.checked_div(s).unwrap_or(0).min(1 << 30) as u64;
-    let off = ((cx - ((xc as i64) << 16)) as i32)
+    let off = ((cx - ((xc as i64) << frac)) as i32)
         .checked_div(si)
         .unwrap_or(0); // |.| < 2^16
 
@@ -265,14 +273,15 @@ where
     let mut j = j_lo;
     while j <= j_hi && visited < cap {
         // |y - cy| <= hy, so |ty| <= 1 (the additions drift by at most j units).
-        let ry = (((ty as i64 * ty as i64) >> 30) as u32).min(1 << 30); // ty^2, Q2.30
-        let root = isqrt32((1 << 30) - ry) as u64; // sqrt(1 - ty^2), Q0.15
-                                                   // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
-                                                   // anyway.
-        let half_chord = ((ax * root) >> 15) as i32;
+        // ty^2, Q2.30, and sqrt(1 - ty^2), Q0.15.
+        let ry = (((ty as i64 * ty as i64) >> Q30_FRAC_BITS) as u32).min(ONE_Q30 as u32);
+        let root = isqrt32(ONE_Q30 as u32 - ry) as u64;
+        // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
+        // anyway.
+        let half_chord = ((ax * root) >> (Q30_FRAC_BITS / 2)) as i32;
         // Lattice points strictly inside the chord (points on the boundary weigh 0).
-        let k_lo = (-((half_chord - off - 1) >> 16)).max(k_frame_lo);
-        let k_hi = ((off + half_chord - 1) >> 16).min(k_frame_hi);
+        let k_lo = (-((half_chord - off - 1) >> frac)).max(k_frame_lo);
+        let k_hi = ((off + half_chord - 1) >> frac).min(k_frame_hi);
         if k_lo <= k_hi {
             let points = (k_hi - k_lo + 1) as u32; // <= width
                                                    // The step keeps the window within its cap (see the module docs): the stop at

@@ -46,7 +46,7 @@
 //! ```
 
 use crate::fixed::{isqrt32, sqrt_q8, Q16};
-use crate::image::{Crosses, ImageView, PixelFormat};
+use crate::image::{Crosses, ImageView, PixelFormat, CROSS_REACH};
 use crate::window::Ellipse;
 
 mod gradient;
@@ -72,6 +72,10 @@ pub const DEFAULT_SATURATION: u32 = 192;
 
 /// Fraction bits of the per-point magnitude `m_k` (1/32).
 const MAG_FRAC_BITS: u32 = 5;
+
+/// Fraction bits of the mean's reciprocal ([`GradientCue`]'s `recip`): `2^48 / (K sat
+/// 2^5)`.
+const RECIP_FRAC_BITS: u32 = 48;
 
 /// Why [`GradientCue::new`] rejected a configuration: the name of the field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -179,7 +183,7 @@ impl GradientCue {
             points: config.points,
             search: config.search_px as i32,
             saturation: config.saturation,
-            recip: (1u64 << 48) / den.max(32), // den >= 32
+            recip: (1u64 << RECIP_FRAC_BITS) / den.max(1 << MAG_FRAC_BITS), // den >= 2^5
         })
     }
 
@@ -282,8 +286,9 @@ impl GradientCue {
     /// `sum <= K sat`, so `sum * recip <= 2^48`.
     #[inline(always)]
     fn mean(&self, sum: u32) -> Q16 {
-        let g = (sum as u64 * self.recip + (1 << 31)) >> 32;
-        Q16::from_bits(g.min(1 << 16) as i32)
+        let shift = RECIP_FRAC_BITS - Q16::FRAC_BITS;
+        let g = (sum as u64 * self.recip + (1 << (shift - 1))) >> shift;
+        Q16::from_bits(g.min(Q16::ONE.to_bits() as u64) as i32)
     }
 
     /// Boundary point `k`'s term of `e`'s cue, `min(m_k, saturation)` in 1/32 units (0
@@ -308,17 +313,19 @@ impl GradientCue {
         let (hx, hy) = (e.hx.to_bits(), e.hy.to_bits()); // 2^15..2^31
         let (w, h) = (img.width() as i32, img.height() as i32); // <= MAX_SIDE < 2^14
         let search = self.search;
+        let frac = Q16::FRAC_BITS;
         // Beyond the search segment, px Q16.
-        let reach = (search + 1) << 16;
+        let reach = (search + 1) << frac;
         // The offsets h c / 2^16 lie in [-h, h], h < 2^31.
-        let offset = |h: i32, c: i32| ((h as i64 * c as i64) >> 16) as i32;
+        let offset = |h: i32, c: i32| ((h as i64 * c as i64) >> frac) as i32;
         // Every search position lies within `reach` of the box `c +- h` (|offset| <= h, the
         // normal's components are at most 1), so a window whose box so widened has only
         // interior pixels needs no test per point (the usual case, checked in 32 bits).
         let (cx, cy) = (e.cx.to_bits(), e.cy.to_bits());
+        let taps = (CROSS_REACH as i32) << frac; // a cross's reach, px Q16
         let inside = |c: i32, h: i32, side: i32| {
             let margin = h.saturating_add(reach);
-            c.saturating_sub(margin) >= 2 << 16 && c.saturating_add(margin) < (side - 2) << 16
+            c.saturating_sub(margin) >= taps && c.saturating_add(margin) < (side << frac) - taps
         };
         let interior = inside(cx, hx, w) && inside(cy, hy, h);
         let (bx, by) = if interior {
@@ -332,14 +339,17 @@ impl GradientCue {
             };
             // A segment wholly outside the frame has no sample in it (and this keeps the
             // positions below in i32).
-            if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
+            let (right, bottom) = ((w << frac) + reach, (h << frac) + reach);
+            if bx < -reach || by < -reach || bx >= right || by >= bottom {
                 return 0;
             }
             (bx, by)
         };
         // The normal at angle t is along (cos t / hx, sin t / hy) ~ (cos t hy, sin t hx).
         let (ux, uy) = unit_normal(c, s, hx, hy);
-        let at = |j: i32| ((bx + j * ux + 0x8000) >> 16, (by + j * uy + 0x8000) >> 16);
+        // The nearest pixel, halves rounded up.
+        let half = Q16::HALF.to_bits();
+        let at = |j: i32| ((bx + j * ux + half) >> frac, (by + j * uy + half) >> frac);
         // Positions are monotone in j, so the two ends bound the segment.
         let ends_interior = || {
             let ((x0, y0), (x1, y1)) = (at(-search), at(search));
@@ -420,7 +430,8 @@ fn unit_normal(c: i32, s: i32, hx: i32, hy: i32) -> (i32, i32) {
     // len >= 2^15, so a 2^16 + len / 2 < 2^32 - 2^16 + 2^15.6: no overflow; the quotient
     // is <= 2^16 + 1.
     let len = ((sqrt_q8(((ax * ax) >> 2) + ((ay * ay) >> 2)) + 64) >> 7).max(1);
-    let unit = |a: u32| (((a << 16) + len / 2) / len).min(1 << 16) as i32;
+    let one = Q16::ONE.to_bits() as u32;
+    let unit = |a: u32| (((a << Q16::FRAC_BITS) + len / 2) / len).min(one) as i32;
     let (ux, uy) = (unit(ax), unit(ay));
     (if c < 0 { -ux } else { ux }, if s < 0 { -uy } else { uy })
 }

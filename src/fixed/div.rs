@@ -1,5 +1,11 @@
 //! Division of a 64-bit dividend by a 32-bit divisor in 32-bit steps.
 
+/// Bits of a quotient digit: the low word's quotient is found as two digits.
+const DIGIT_BITS: u32 = 16;
+
+/// The low digit of a word.
+const DIGIT_MASK: u32 = (1 << DIGIT_BITS) - 1;
+
 /// `n / d` rounded down (0 for `d = 0`), exactly, with 32-bit divisions only: the
 /// Cortex-M4 divides 32 by 32 bits in one instruction, where a 64-bit division is a
 /// library call of about a hundred. The high word takes one division, the low word two
@@ -15,7 +21,7 @@ pub fn div_u64_u32(n: u64, d: u32) -> u64 {
     // (r 2^32 + lo) / d with r < d: a 32-bit quotient. Normalise d to its top bit.
     let s = d.leading_zeros();
     let v = d << s;
-    let (v1, v0) = (v >> 16, v & 0xFFFF); // v1 >= 2^15
+    let (v1, v0) = (v >> DIGIT_BITS, v & DIGIT_MASK); // v1 >= 2^15
     let top = (r << s) | (lo >> 1 >> (31 - s)); // the top 32 bits of (r : lo) << s
     let u10 = lo << s;
     // One 16-bit digit of (u 2^16 + next) / v from u < v: estimated from the top
@@ -23,20 +29,20 @@ pub fn div_u64_u32(n: u64, d: u32) -> u64 {
     let digit = |u: u32, next: u32| {
         let mut q = u.checked_div(v1).unwrap_or(0);
         let mut rhat = u - q * v1;
-        while q >= 1 << 16 || q * v0 > (rhat << 16 | next) {
+        while q >= 1 << DIGIT_BITS || q * v0 > (rhat << DIGIT_BITS | next) {
             q -= 1;
             rhat += v1;
-            if rhat >= 1 << 16 {
+            if rhat >= 1 << DIGIT_BITS {
                 break;
             }
         }
         // The remainder, below v.
-        let rem = (u << 16 | next).wrapping_sub(q.wrapping_mul(v));
+        let rem = (u << DIGIT_BITS | next).wrapping_sub(q.wrapping_mul(v));
         (q, rem)
     };
-    let (q1, rem) = digit(top, u10 >> 16);
-    let (q0, _) = digit(rem, u10 & 0xFFFF);
-    (q_hi as u64) << 32 | (q1 << 16 | q0) as u64
+    let (q1, rem) = digit(top, u10 >> DIGIT_BITS);
+    let (q0, _) = digit(rem, u10 & DIGIT_MASK);
+    (q_hi as u64) << 32 | (q1 << DIGIT_BITS | q0) as u64
 }
 
 #[cfg(test)]

@@ -28,6 +28,9 @@ mod sqrt;
 pub use div::div_u64_u32;
 pub use sqrt::{isqrt32, sqrt_q8, SQRT_FRAC_BITS};
 
+/// `2^16`, a [`Q16`]'s raw value per unit, as a float (for the float conversions).
+const SCALE: f64 = (1u32 << Q16::FRAC_BITS) as f64;
+
 /// Signed Q16.16 fixed-point number (`i32`, 16 fraction bits), saturating arithmetic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -40,9 +43,9 @@ impl Q16 {
     /// 0.
     pub const ZERO: Self = Self(0);
     /// 1.
-    pub const ONE: Self = Self(1 << 16);
+    pub const ONE: Self = Self(1 << Self::FRAC_BITS);
     /// 0.5.
-    pub const HALF: Self = Self(1 << 15);
+    pub const HALF: Self = Self(1 << (Self::FRAC_BITS - 1));
     /// Largest value, `32768 - 2^-16`.
     pub const MAX: Self = Self(i32::MAX);
     /// Smallest value, `-32768`.
@@ -65,7 +68,7 @@ impl Q16 {
     /// From an integer, saturating outside `[-32768, 32767]`.
     #[inline]
     pub const fn from_int(n: i32) -> Self {
-        Self::saturate(n as i64 * 65536)
+        Self::saturate((n as i64) << Self::FRAC_BITS)
     }
 
     /// `num / den` rounded toward zero, saturating; `den == 0` gives [`Q16::ZERO`].
@@ -74,7 +77,7 @@ impl Q16 {
         if den == 0 {
             return Self::ZERO;
         }
-        let wide = (num as i128 * 65536) / den as i128;
+        let wide = ((num as i128) << Self::FRAC_BITS) / den as i128;
         if wide > i32::MAX as i128 {
             Self::MAX
         } else if wide < i32::MIN as i128 {
@@ -89,13 +92,13 @@ impl Q16 {
     #[inline]
     pub fn from_f64(v: f64) -> Self {
         // `as` saturates and maps NaN to 0.
-        Self(libm::round(v * 65536.0) as i32)
+        Self(libm::round(v * SCALE) as i32)
     }
 
     /// To a float, exactly (for reports, tests and configuration-time tables).
     #[inline]
     pub fn to_f64(self) -> f64 {
-        self.0 as f64 / 65536.0
+        self.0 as f64 / SCALE
     }
 
     /// Saturates an `i64` raw value to the `i32` range.
@@ -113,13 +116,13 @@ impl Q16 {
     /// Largest integer not above `self`.
     #[inline]
     pub const fn floor_int(self) -> i32 {
-        self.0 >> 16
+        self.0 >> Self::FRAC_BITS
     }
 
     /// Nearest integer, halves rounded up.
     #[inline]
     pub const fn round_int(self) -> i32 {
-        ((self.0 as i64 + 0x8000) >> 16) as i32
+        ((self.0 as i64 + Self::HALF.0 as i64) >> Self::FRAC_BITS) as i32
     }
 
     /// Saturating addition.
@@ -137,7 +140,7 @@ impl Q16 {
     /// Saturating product, rounded to nearest.
     #[inline]
     pub const fn saturating_mul(self, rhs: Self) -> Self {
-        Self::saturate((self.0 as i64 * rhs.0 as i64 + 0x8000) >> 16)
+        Self::saturate((self.0 as i64 * rhs.0 as i64 + Self::HALF.0 as i64) >> Self::FRAC_BITS)
     }
 
     /// Saturating quotient, rounded toward zero; division by zero saturates toward the
@@ -153,7 +156,7 @@ impl Q16 {
                 Self::ZERO
             };
         }
-        Self::saturate(((self.0 as i64) << 16) / rhs.0 as i64)
+        Self::saturate(((self.0 as i64) << Self::FRAC_BITS) / rhs.0 as i64)
     }
 
     /// Product with an integer, saturating.
@@ -174,8 +177,8 @@ impl Q16 {
         if self.0 <= 0 {
             return Self::ZERO;
         }
-        // sqrt(v * 2^16) * 2^8 = sqrt(v * 2^32) = sqrt(v) * 2^16
-        Self(((self.0 as u64) << 16).isqrt() as i32)
+        // sqrt(v 2^16) 2^8 = sqrt(v 2^32) = sqrt(v) 2^16
+        Self(((self.0 as u64) << Self::FRAC_BITS).isqrt() as i32)
     }
 
     /// The smaller of two values.
@@ -264,8 +267,9 @@ impl core::fmt::Display for Q16 {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let neg = self.0 < 0;
         let mag = (self.0 as i64).unsigned_abs();
-        let int = mag >> 16;
-        let frac = ((mag & 0xFFFF) * 10_000 + 0x8000) >> 16;
+        let (one, half) = (Self::ONE.0 as u64, Self::HALF.0 as u64);
+        let int = mag >> Self::FRAC_BITS;
+        let frac = ((mag & (one - 1)) * 10_000 + half) >> Self::FRAC_BITS;
         let (int, frac) = if frac == 10_000 {
             (int + 1, 0)
         } else {

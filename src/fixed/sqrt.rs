@@ -4,6 +4,9 @@
 /// Fraction bits of [`sqrt_q8`]'s result (Q24.8).
 pub const SQRT_FRAC_BITS: u32 = 8;
 
+/// Bits of the linear interpolation between two table entries.
+const INTERPOLATION_BITS: u32 = 16;
+
 /// `floor(sqrt(64 + i) * 2^20)` for `i` in `0..=192`: square roots of `[64, 256]`.
 const SQRT_TABLE: [u32; 193] = {
     let mut t = [0u32; 193];
@@ -26,13 +29,13 @@ pub fn sqrt_q8(n: u32) -> u32 {
     let shift = n.leading_zeros() & !1; // even, 0..=30
     let m = n << shift; // [2^30, 2^32)
     let i = (m >> 24) as usize - 64; // 0..=191
-    let frac = (m >> 8) & 0xFFFF;
+    let frac = (m >> 8) & ((1 << INTERPOLATION_BITS) - 1);
     let (lo, hi) = match (SQRT_TABLE.get(i), SQRT_TABLE.get(i + 1)) {
         (Some(&lo), Some(&hi)) => (lo, hi),
         _ => return 0,
     };
     // hi - lo <= 65231 (at i = 0), so the product stays below 2^32.
-    (lo + (((hi - lo) * frac) >> 16)) >> (shift / 2)
+    (lo + (((hi - lo) * frac) >> INTERPOLATION_BITS)) >> (shift / 2)
 }
 
 /// `floor(sqrt(n))`, exactly, for any `n < 2^31`: [`sqrt_q8`] (never above the exact

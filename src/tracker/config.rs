@@ -222,7 +222,7 @@ impl From<KalmanError> for ConfigError {
 /// `n / den` rounded to nearest (half away from zero), Q16.16: a decimal constant in a
 /// `const` context, equal to `Q16::from_f64` of it (checked in the tests).
 pub(super) const fn decimal(n: i64, den: i64) -> Q16 {
-    let scaled = n * 65536;
+    let scaled = n << Q16::FRAC_BITS;
     let half = den / 2;
     let rounded = if scaled >= 0 {
         (scaled + half) / den

@@ -48,6 +48,9 @@ impl Particle {
     }
 }
 
+/// The fastest motion along each axis, as a share of the frame's larger side: a quarter.
+const MAX_SPEED_DIVISOR: i32 = 4;
+
 /// Limits a propagated state must respect: the frame and the half-axis range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Bounds {
@@ -70,7 +73,7 @@ impl Bounds {
             max_y,
             min_half,
             max_half: max_x.max(max_y).max(min_half),
-            max_speed: Q16::from_int(width.max(height) as i32 / 4),
+            max_speed: Q16::from_int(width.max(height) as i32 / MAX_SPEED_DIVISOR),
         }
     }
 

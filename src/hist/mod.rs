@@ -1,5 +1,5 @@
-//! Kernel-weighted colour histograms, target models and the Bhattacharyya coefficient,
-//! in integers.
+//! Kernel-weighted colour histograms of windows, the target models made from them and the
+//! Bhattacharyya coefficient between the two, in integers.
 //!
 //! A [`Histogram<B>`] sums the Q0.16 Epanechnikov weights of a window's pixels
 //! ([`crate::window`]) into `B` bins chosen by a [`Binning`]; `fill::<Bn, P>` checks at
@@ -49,12 +49,24 @@
 //! h.fill::<Rgb8x8x8, _>(&img, &Ellipse::default(), 16); // 512 bins != 256
 //! ```
 
-use crate::fixed::{div_u64_u32, sqrt_q8, Q16};
+use crate::fixed::{div_u64_u32, sqrt_q8, Q16, SQRT_FRAC_BITS};
 use crate::image::{Binning, ImageView, PixelFormat};
 use crate::window::{rows, Ellipse, MAX_CAP, WEIGHT_ONE};
 
+mod model;
+
+pub(crate) use model::blend;
+pub use model::Model;
+
+/// Fraction bits of a probability: Q0.30, [`PROB_ONE`] being 1.
+pub const PROB_FRAC_BITS: u32 = 30;
+
 /// 1.0 in Q0.30, the scale of model probabilities.
-pub const PROB_ONE: u32 = 1 << 30;
+pub const PROB_ONE: u32 = 1 << PROB_FRAC_BITS;
+
+/// Fraction bits of the square root of a probability, `sqrt(q_u)` ([`sqrt_q8`] of a Q0.30
+/// value): Q0.23.
+pub const SQRT_PROB_FRAC_BITS: u32 = PROB_FRAC_BITS / 2 + SQRT_FRAC_BITS;
 
 /// How a fill weighs a pixel from its kernel weight `w` (Q0.16, `<= WEIGHT_ONE`).
 trait Weighting: Copy {
@@ -147,12 +159,13 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
 /// rounded, as Q16.16 clamped to `[0, 1]`; 0 for no mass.
 #[inline]
 fn ratio(acc: u64, mass: u32) -> Q16 {
-    let den = sqrt_q8(mass) << 7; // Q31 / (Q8 << 7) = Q16; sqrt_q8 < 2^24
+    // Q31 / (Q8 << 7) = Q16; sqrt_q8 < 2^24.
+    let den = sqrt_q8(mass) << (SQRT_PROB_FRAC_BITS - Q16::FRAC_BITS);
     if den == 0 {
         return Q16::ZERO;
     }
     let rho = div_u64_u32(acc + (den / 2) as u64, den);
-    Q16::from_bits(rho.min(1 << 16) as i32)
+    Q16::from_bits(rho.min(Q16::ONE.to_bits() as u64) as i32)
 }
 
 /// A kernel-weighted colour histogram of `B` bins (`1 <= B <= 65536`).
@@ -335,7 +348,7 @@ impl<const B: usize> Histogram<B> {
     /// Cost: one [`sqrt_q8`] and one multiply-add per touched bin, one division.
     #[inline]
     pub fn bhattacharyya(&self, model: &Model<B>) -> Q16 {
-        self.coefficient(&model.sqrt_q)
+        self.coefficient(model.sqrt_table())
     }
 
     /// [`Histogram::coefficient`] of the sum of this histogram and `other` (counts and
@@ -374,122 +387,6 @@ impl<const B: usize> Histogram<B> {
             acc += sqrt_q8(self.count(u)) as u64 * sq;
         }
         ratio(acc, self.mass)
-    }
-}
-
-/// `v <- (1 - alpha) v + alpha p` bin by bin, `v` and `p` (the normalised counts of
-/// `hist`) Q0.30, `alpha` Q16.16 clamped to `[0, 1]`; each bin rounded to nearest.
-pub(crate) fn blend<const B: usize>(v: &mut [u32; B], hist: &Histogram<B>, alpha: Q16) {
-    let a = alpha.clamp(Q16::ZERO, Q16::ONE).to_bits() as u64; // 0..=65536
-    for q in v.iter_mut() {
-        *q = ((*q as u64 * (65536 - a) + 32768) >> 16) as u32;
-    }
-    for &u in hist.touched() {
-        let u = u as usize;
-        let p = hist.probability(u) as u64;
-        if let Some(q) = v.get_mut(u) {
-            *q = q
-                .saturating_add(((p * a + 32768) >> 16) as u32)
-                .min(PROB_ONE);
-        }
-    }
-}
-
-/// A target colour model: normalised histogram `q` and `sqrt(q)`, for `B` bins.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Model<const B: usize> {
-    /// `q_u`, Q0.30; sums to about `PROB_ONE` (0 for an empty model).
-    q: [u32; B],
-    /// `sqrt(q_u)`, Q0.23 (`sqrt_q8` of `q_u`).
-    sqrt_q: [u32; B],
-}
-
-#[cfg(feature = "defmt")]
-impl<const B: usize> defmt::Format for Model<B> {
-    fn format(&self, f: defmt::Formatter) {
-        defmt::write!(f, "Model {{ bins: {} }}", B)
-    }
-}
-
-impl<const B: usize> Default for Model<B> {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl<const B: usize> Model<B> {
-    /// The empty model: every coefficient against it is 0.
-    pub const fn new() -> Self {
-        Self {
-            q: [0; B],
-            sqrt_q: [0; B],
-        }
-    }
-
-    /// The model of a histogram's normalised counts (empty if the histogram is).
-    pub fn from_histogram(hist: &Histogram<B>) -> Self {
-        let mut m = Self::new();
-        m.set(hist);
-        m
-    }
-
-    /// Empties the model in place.
-    pub fn clear(&mut self) {
-        self.q.fill(0);
-        self.sqrt_q.fill(0);
-    }
-
-    /// Replaces the model with `hist`'s normalised counts.
-    pub fn set(&mut self, hist: &Histogram<B>) {
-        self.q = [0; B];
-        self.sqrt_q = [0; B];
-        for &u in hist.touched() {
-            let u = u as usize;
-            let p = hist.probability(u);
-            if let (Some(q), Some(s)) = (self.q.get_mut(u), self.sqrt_q.get_mut(u)) {
-                *q = p;
-                *s = sqrt_q8(p);
-            }
-        }
-    }
-
-    /// The adaptive update `q <- (1 - alpha) q + alpha p`, `p` the normalised counts of
-    /// `hist`, `alpha` Q16.16 clamped to `[0, 1]`; recomputes `sqrt(q)`. An empty `hist`
-    /// leaves the model unchanged. Cost: `B` multiplies and square roots, one division per
-    /// touched bin.
-    pub fn update(&mut self, hist: &Histogram<B>, alpha: Q16) {
-        if hist.is_empty() {
-            return;
-        }
-        blend(&mut self.q, hist, alpha);
-        for (s, &q) in self.sqrt_q.iter_mut().zip(self.q.iter()) {
-            *s = sqrt_q8(q);
-        }
-    }
-
-    /// `q_u` of `bin`, Q0.30 (`0..=PROB_ONE`); 0 for `bin >= B`.
-    pub fn q(&self, bin: usize) -> u32 {
-        self.q.get(bin).copied().unwrap_or(0)
-    }
-
-    /// `sqrt(q_u)` of `bin`, Q0.23 (`0..=2^23`); 0 for `bin >= B`.
-    pub fn sqrt_q(&self, bin: usize) -> u32 {
-        self.sqrt_q.get(bin).copied().unwrap_or(0)
-    }
-
-    /// Every `q_u`, Q0.30.
-    pub fn probabilities(&self) -> &[u32; B] {
-        &self.q
-    }
-
-    /// Every `sqrt(q_u)`, Q0.23.
-    pub fn sqrt_table(&self) -> &[u32; B] {
-        &self.sqrt_q
-    }
-
-    /// Whether the model has no mass.
-    pub fn is_empty(&self) -> bool {
-        self.q.iter().all(|&q| q == 0)
     }
 }
 
@@ -718,30 +615,6 @@ mod tests {
         mid.add(25, 1000);
         let rho = h.bhattacharyya(&Model::from_histogram(&mid)).to_f64();
         assert!((rho - 0.4f64.sqrt()).abs() < 2e-5, "{rho}");
-    }
-
-    #[test]
-    fn adaptive_update_blends() {
-        let mut a = Histogram::<64>::new();
-        a.add(1, 3000);
-        a.add(2, 1000);
-        let mut b = Histogram::<64>::new();
-        b.add(2, 500);
-        b.add(3, 500);
-        let mut m = Model::from_histogram(&a);
-        let before = m.clone();
-        m.update(&b, Q16::ZERO);
-        assert_eq!(m, before);
-        m.update(&b, Q16::from_f64(0.25));
-        let f = |u| m.q(u) as f64 / PROB_ONE as f64;
-        assert!((f(1) - 0.5625).abs() < 1e-6);
-        assert!((f(2) - (0.1875 + 0.125)).abs() < 1e-6);
-        assert!((f(3) - 0.125).abs() < 1e-6);
-        let s = m.sqrt_q(3) as f64 / (1u32 << 23) as f64;
-        assert!((s - 0.125f64.sqrt()).abs() < 1e-5);
-        m.update(&b, Q16::from_int(3)); // clamped to 1
-        assert_eq!(m, Model::from_histogram(&b));
-        assert!((b.bhattacharyya(&m).to_f64() - 1.0).abs() < 1e-4);
     }
 
     /// An 11x11 Gray8 frame: a 5x5 bright square (220) centred at (5, 5) on 40.
