@@ -133,6 +133,7 @@ impl ObjectMap {
             let mut c = 0usize;
             let mut run = 0u32;
             runs.for_each_bin::<Bn>(y, x, cell as usize, cols as u32, |bin| {
+                debug_assert!((bin as usize) < B, "bin {bin} out of range");
                 run += prob.get(bin as usize).copied().unwrap_or(0) as u32;
                 c += 1;
                 if let (Some(out), Some(&up)) = (here.get_mut(c), above.get(c)) {
@@ -180,11 +181,11 @@ impl ObjectMap {
             (v >> Q16::FRAC_BITS) as usize,
         );
         let (fu, fv) = (u & (ONE - 1), v & (ONE - 1));
+        // Rows and columns up to `SIDE`: always inside the integral image.
         let t = |r: usize, c: usize| -> i64 {
-            self.integral
-                .get(r.min(self.rows) * STRIDE + c.min(self.cols))
-                .copied()
-                .unwrap_or(0) as i64
+            let index = r.min(self.rows) * STRIDE + c.min(self.cols);
+            debug_assert!(index < self.integral.len(), "integral image entry {index}");
+            self.integral.get(index).copied().unwrap_or(0) as i64
         };
         let top = t(j, i) * (ONE - fu) + t(j, i + 1) * fu;
         let bottom = t(j + 1, i) * (ONE - fu) + t(j + 1, i + 1) * fu;

@@ -294,6 +294,7 @@ pub fn resample(
 fn cumulate(weights: &mut [u32]) {
     let mut acc = 0u32;
     for w in weights.iter_mut() {
+        debug_assert!(acc.checked_add(*w).is_some(), "cumulative weights overflow");
         acc = acc.saturating_add(*w);
         *w = acc;
     }
@@ -303,6 +304,7 @@ fn cumulate(weights: &mut [u32]) {
 /// non-decreasing; `r < cum[last]` is the callers' invariant, the clamp is defensive).
 fn search(cum: &[u32], r: u32) -> u16 {
     let j = cum.partition_point(|&c| c <= r);
+    debug_assert!(j < cum.len(), "position {r} at or past the total");
     j.min(cum.len().saturating_sub(1)) as u16
 }
 

@@ -91,6 +91,7 @@ impl Rng {
 /// `table[i] + (table[i + 1] - table[i]) * frac / 2^frac_bits`; the callers keep
 /// `i + 1 < table.len()` (0 otherwise, never a panic).
 fn interpolate(table: &[i32], i: usize, frac: u32, frac_bits: u32) -> i32 {
+    debug_assert!(i + 1 < table.len(), "bin {i} past the table's end");
     let (Some(&lo), Some(&hi)) = (table.get(i), table.get(i + 1)) else {
         return 0;
     };

@@ -148,6 +148,7 @@ where
 /// `floor(a / s)` for `s >= 1` (0 for `s <= 0`, which callers never pass).
 #[inline(always)]
 fn floor_div(a: i32, s: i32) -> i32 {
+    debug_assert!(s > 0, "a lattice step of {s}");
     if s > 0 {
         a.div_euclid(s)
     } else {

@@ -306,6 +306,7 @@ impl GradientCue {
         if !e.is_visitable() {
             return 0;
         }
+        debug_assert!(k < self.points, "boundary point {k} of {}", self.points);
         let (Some(&c), Some(&s)) = (self.cos.get(k), self.sin.get(k)) else {
             return 0;
         };

@@ -155,6 +155,14 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
     n
 }
 
+/// `table[u]` for a touched bin `u`: always below `B` (a bin enters the touched list
+/// only through its count), so the fallback 0 never serves.
+#[inline(always)]
+fn entry<const B: usize>(table: &[u32; B], u: usize) -> u32 {
+    debug_assert!(u < B, "touched bin {u} out of range");
+    table.get(u).copied().unwrap_or(0)
+}
+
 /// `acc / sqrt(mass)` for a sum `acc` of `sqrt_q8(n_u) sqrt(q_u)` (Q8 times Q0.23 = Q31),
 /// rounded, as Q16.16 clamped to `[0, 1]`; 0 for no mass.
 #[inline]
@@ -213,6 +221,7 @@ impl<const B: usize> Histogram<B> {
     #[inline]
     pub fn clear(&mut self) {
         for &u in self.touched.iter() {
+            debug_assert!((u as usize) < B, "touched bin {u} out of range");
             if let Some(c) = self.counts.get_mut(u as usize) {
                 *c = 0;
             }
@@ -299,7 +308,7 @@ impl<const B: usize> Histogram<B> {
         self.mass = self
             .touched
             .iter()
-            .map(|&u| self.counts.get(u as usize).copied().unwrap_or(0))
+            .map(|&u| entry(&self.counts, u as usize))
             .fold(0u32, u32::wrapping_add);
     }
 
@@ -356,7 +365,7 @@ impl<const B: usize> Histogram<B> {
     #[inline]
     pub fn coefficient_with(&self, other: &Histogram<B>, sqrt_q: &[u32; B]) -> Q16 {
         let mass = self.mass.saturating_add(other.mass);
-        let sq = |u: usize| sqrt_q.get(u).copied().unwrap_or(0) as u64;
+        let sq = |u: usize| entry(sqrt_q, u) as u64;
         // Bins of `self` (with `other`'s count added), then those only `other` touched.
         let mut acc = 0u64;
         for &u in self.touched.iter() {
@@ -383,7 +392,7 @@ impl<const B: usize> Histogram<B> {
         let mut acc = 0u64; // Q8 * Q0.23 = Q31; <= sqrt(N) 2^31 <= 2^47
         for &u in self.touched.iter() {
             let u = u as usize;
-            let sq = sqrt_q.get(u).copied().unwrap_or(0) as u64;
+            let sq = entry(sqrt_q, u) as u64;
             acc += sqrt_q8(self.count(u)) as u64 * sq;
         }
         ratio(acc, self.mass)

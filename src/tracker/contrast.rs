@@ -48,6 +48,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// The region every particle's contrast ring covers.
     pub(super) fn particle_region(&self) -> Span {
         let outer = |p: &Particle| self.contrast_span(&p.ellipse(), self.config.contrast_ring);
+        debug_assert!(N >= 1, "a started tracker has particles");
         let mut region = self.state.particles.first().map(outer).unwrap_or_default();
         for s in self.state.particles.iter().map(outer) {
             region = Span {

@@ -29,6 +29,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         };
         let motion = Motion::new(&self.config, self.noise_scale(searching));
         let slope = self.scale_per_row();
+        debug_assert!(self.state.rng.is_some(), "a step of an unstarted tracker");
         let Some(rng) = self.state.rng.as_mut() else {
             return;
         };
@@ -94,6 +95,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let slope = self.scale_per_row();
         let width = bounds.max_x.floor_int() as u32 + 1;
         let height = bounds.max_y.floor_int() as u32 + 1;
+        debug_assert!(self.state.rng.is_some(), "a step of an unstarted tracker");
         for p in self.state.particles.iter_mut().take(count) {
             let Some(rng) = self.state.rng.as_mut() else {
                 return;

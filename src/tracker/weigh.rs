@@ -31,7 +31,10 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             let particles = &self.state.particles;
             self.derived.cue.evaluate_each(
                 frame,
-                |i| particles.get(i).map(|p| p.ellipse()).unwrap_or_default(),
+                |i| {
+                    debug_assert!(i < N, "window {i} of {N}");
+                    particles.get(i).map(|p| p.ellipse()).unwrap_or_default()
+                },
                 &mut self.scratch.cues,
                 &mut self.scratch.memo,
             );
@@ -126,6 +129,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             return;
         }
         let scheme = self.config.resampling;
+        debug_assert!(self.state.rng.is_some(), "a step of an unstarted tracker");
         let Some(rng) = self.state.rng.as_mut() else {
             return;
         };
