@@ -1,4 +1,4 @@
-//! Particle state and its motion model.
+//! A particle: its state, the bounds a frame sets on it, and its motion and size models.
 
 use super::Config;
 use crate::fixed::Q16;
