@@ -412,18 +412,11 @@ mod firmware {
             panic!("the stack outgrew its budget");
         }
         hprintln!("checksum {:#018x}", checksum.value());
-        debug::exit(debug::EXIT_SUCCESS);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::exit(debug::EXIT_SUCCESS)
     }
 
     #[panic_handler]
     fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-        hprintln!("panic: {}", info);
-        debug::exit(debug::EXIT_FAILURE);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::report_panic(info)
     }
 }

@@ -12,7 +12,7 @@
 //! third of it, so scores move smoothly with sub-cell shifts and sizes.
 
 use crate::fixed::{div_u64_u32, Q16};
-use crate::image::{Binning, ImageView, PixelFormat};
+use crate::image::{Binning, ImageView, PixelFormat, Run};
 
 /// Cells per side of the map, at most.
 pub const SIDE: usize = 64;
@@ -132,7 +132,12 @@ impl ObjectMap {
             here[0] = 0;
             let mut c = 0usize;
             let mut run = 0u32;
-            runs.for_each_bin::<Bn>(y, x, cell as usize, cols as u32, |bin| {
+            let cells = Run {
+                x0: x,
+                step: cell as usize,
+                count: cols as u32,
+            };
+            runs.for_each_bin::<Bn>(y, cells, |bin| {
                 debug_assert!((bin as usize) < B, "bin {bin} out of range");
                 run += prob.get(bin as usize).copied().unwrap_or(0) as u32;
                 c += 1;

@@ -47,7 +47,7 @@
 //! ```
 
 use crate::fixed::{div_u64_u32, isqrt32, Q16};
-use crate::image::{ImageView, PixelFormat, Row};
+use crate::image::{ImageView, PixelFormat, Row, Run};
 
 /// Fraction bits of a kernel weight: Q0.16.
 pub const WEIGHT_FRAC_BITS: u32 = 16;
@@ -90,6 +90,15 @@ impl Ellipse {
     /// Whether [`visit`] can visit any pixel: both half-axes at least [`MIN_HALF_AXIS`].
     pub const fn is_visitable(&self) -> bool {
         self.hx.to_bits() >= MIN_HALF_AXIS.to_bits() && self.hy.to_bits() >= MIN_HALF_AXIS.to_bits()
+    }
+}
+
+#[cfg(test)]
+impl Ellipse {
+    /// An ellipse from its centre and half-axes in floats (px), rounded to Q16.16.
+    pub(crate) fn from_f64(cx: f64, cy: f64, hx: f64, hy: f64) -> Self {
+        let q = Q16::from_f64;
+        Self::new(q(cx), q(cy), q(hx), q(hy))
     }
 }
 
@@ -137,10 +146,10 @@ where
     let cap = cap.min(MAX_CAP);
     rows(img, e, cap, |mut run| {
         let row = img.row(run.y);
-        let mut x = run.x0;
-        for _ in 0..run.count {
+        let mut x = run.pixels.x0;
+        for _ in 0..run.pixels.count {
             f(&row, x, run.weights.next());
-            x += run.step;
+            x += run.pixels.step;
         }
     })
 }
@@ -199,15 +208,15 @@ impl RowWeights {
     }
 }
 
-/// One row's part of a window: the lattice points `x0, x0 + step, ...` (`count` of them,
-/// all inside the frame and strictly inside the ellipse's chord) of row `y`, with their
-/// kernel weights.
+/// One row's part of a window: the lattice points of row `y` inside the frame and
+/// strictly inside the ellipse's chord, with their kernel weights.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RowRun {
+    /// The row, px.
     pub y: usize,
-    pub x0: usize,
-    pub step: usize,
-    pub count: u32,
+    /// The points along it.
+    pub pixels: Run,
+    /// Their kernel weights, in order.
     pub weights: RowWeights,
 }
 
@@ -284,22 +293,24 @@ where
         let k_lo = (-((half_chord - off - 1) >> frac)).max(k_frame_lo);
         let k_hi = ((off + half_chord - 1) >> frac).min(k_frame_hi);
         if k_lo <= k_hi {
+            // The step keeps the window within its cap (see the module docs): the stop at
+            // `cap` is a safety belt that never acts.
             let points = (k_hi - k_lo + 1) as u32; // <= width
-                                                   // The step keeps the window within its cap (see the module docs): the stop at
-                                                   // `cap` is a safety belt that never acts.
             debug_assert!(visited + points <= cap, "the lattice step exceeded the cap");
             let count = points.min(cap - visited);
             visited += count;
-            let x0 = xc + k_lo * si; // 0..width, inside the chord
-                                     // A point inside the chord has |t| < 1. If it is not the anchor's column
-                                     // (k != 0), the step is below 2 (unclamped), so neither k dt nor the sum
-                                     // overflows; for k = 0 the product is 0.
+            // The first point, inside the frame and the chord. A point inside the chord has
+            // |t| < 1. If it is not the anchor's column (k != 0), the step is below 2
+            // (unclamped), so neither k dt nor the sum overflows; for k = 0 the product is 0.
+            let x0 = xc + k_lo * si;
             let t0 = tc.wrapping_add(k_lo.wrapping_mul(dt));
             f(RowRun {
                 y,
-                x0: x0 as usize,
-                step: s as usize,
-                count,
+                pixels: Run {
+                    x0: x0 as usize,
+                    step: s as usize,
+                    count,
+                },
                 weights: RowWeights::new(t0, dt, dt2, e2, ry),
             });
         }
@@ -317,14 +328,6 @@ mod tests {
     use std::vec;
     use std::vec::Vec;
 
-    fn q(v: f64) -> Q16 {
-        Q16::from_f64(v)
-    }
-
-    fn ellipse(cx: f64, cy: f64, hx: f64, hy: f64) -> Ellipse {
-        Ellipse::new(q(cx), q(cy), q(hx), q(hy))
-    }
-
     fn collect<P: PixelFormat>(
         img: &ImageView<'_, P>,
         e: &Ellipse,
@@ -340,7 +343,7 @@ mod tests {
     fn weights_match_the_kernel() {
         let buf = vec![0u8; 64 * 48];
         let img = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
-        let e = ellipse(30.3, 20.7, 12.4, 7.9);
+        let e = Ellipse::from_f64(30.3, 20.7, 12.4, 7.9);
         let px = collect(&img, &e, MAX_CAP);
         let (cx, cy, hx, hy) = (e.cx.to_f64(), e.cy.to_f64(), e.hx.to_f64(), e.hy.to_f64());
         let mut expected = 0;
@@ -380,7 +383,7 @@ mod tests {
             // half-width (at most two points per row).
             let hx = 0.5 + [3.0, 30.0, 340.0, 2.0][i % 4] * rng.uniform().to_f64();
             let hy = 0.5 + [3.0, 40.0, 2.0, 40.0][i % 4] * rng.uniform().to_f64();
-            let e = ellipse(
+            let e = Ellipse::from_f64(
                 350.0 + 10.0 * rng.uniform().to_f64(),
                 45.0 + 4.0 * rng.uniform().to_f64(),
                 hx,
@@ -402,24 +405,27 @@ mod tests {
     fn centre_pixel_of_a_tiny_window() {
         let buf = [7u8; 9];
         let img = ImageView::<Gray8>::new(&buf, 3, 3, 3).unwrap();
-        let px = collect(&img, &ellipse(1.0, 1.0, 0.5, 0.5), 100);
+        let px = collect(&img, &Ellipse::from_f64(1.0, 1.0, 0.5, 0.5), 100);
         assert_eq!(px, vec![(1, 1, WEIGHT_ONE)]);
         // Below half a pixel, or zero, or negative: nothing.
         for (hx, hy) in [(0.49, 3.0), (3.0, 0.0), (-2.0, 2.0), (0.0, 0.0)] {
-            assert!(collect(&img, &ellipse(1.0, 1.0, hx, hy), 100).is_empty());
+            assert!(collect(&img, &Ellipse::from_f64(1.0, 1.0, hx, hy), 100).is_empty());
         }
-        assert!(collect(&img, &ellipse(1.0, 1.0, 2.0, 2.0), 0).is_empty());
+        assert!(collect(&img, &Ellipse::from_f64(1.0, 1.0, 2.0, 2.0), 0).is_empty());
     }
 
     #[test]
     fn one_pixel_frame() {
         let img = ImageView::<Gray8>::new(&[9], 1, 1, 1).unwrap();
-        assert_eq!(collect(&img, &ellipse(0.0, 0.0, 4.0, 4.0), 10).len(), 1);
         assert_eq!(
-            collect(&img, &ellipse(0.2, -0.3, 30_000.0, 30_000.0), 1).len(),
+            collect(&img, &Ellipse::from_f64(0.0, 0.0, 4.0, 4.0), 10).len(),
             1
         );
-        assert!(collect(&img, &ellipse(3.0, 0.0, 2.0, 2.0), 10).is_empty());
+        assert_eq!(
+            collect(&img, &Ellipse::from_f64(0.2, -0.3, 30_000.0, 30_000.0), 1).len(),
+            1
+        );
+        assert!(collect(&img, &Ellipse::from_f64(3.0, 0.0, 2.0, 2.0), 10).is_empty());
     }
 
     #[test]
@@ -427,12 +433,12 @@ mod tests {
         let buf = vec![0u8; 40 * 30 * 3];
         let img = ImageView::<Rgb888>::new(&buf, 40, 30, 40).unwrap();
         for e in [
-            ellipse(-20.0, 15.0, 10.0, 10.0),
-            ellipse(60.0, 15.0, 10.0, 10.0),
-            ellipse(20.0, -20.0, 10.0, 10.0),
-            ellipse(20.0, 50.0, 10.0, 10.0),
-            ellipse(-32_768.0, -32_768.0, 1000.0, 1000.0),
-            ellipse(32_767.0, 32_767.0, 32_767.0, 0.5),
+            Ellipse::from_f64(-20.0, 15.0, 10.0, 10.0),
+            Ellipse::from_f64(60.0, 15.0, 10.0, 10.0),
+            Ellipse::from_f64(20.0, -20.0, 10.0, 10.0),
+            Ellipse::from_f64(20.0, 50.0, 10.0, 10.0),
+            Ellipse::from_f64(-32_768.0, -32_768.0, 1000.0, 1000.0),
+            Ellipse::from_f64(32_767.0, 32_767.0, 32_767.0, 0.5),
         ] {
             assert!(collect(&img, &e, 1000).is_empty(), "{e:?}");
         }
@@ -451,7 +457,7 @@ mod tests {
             let hx = rng.below(60) as f64 + rng.uniform().to_f64();
             let hy = rng.below(60) as f64 + rng.uniform().to_f64();
             let cap = rng.below(400);
-            let e = ellipse(cx, cy, hx, hy);
+            let e = Ellipse::from_f64(cx, cy, hx, hy);
             let mut n = 0;
             let visited = visit(&img, &e, cap, |row, x, wt| {
                 assert!(x < w && row.y() < h && wt <= WEIGHT_ONE);
@@ -484,7 +490,7 @@ mod tests {
                 2 => 1 + rng.below(4096),
                 _ => MAX_CAP - rng.below(1000),
             };
-            let e = ellipse(cx, cy, hx, hy);
+            let e = Ellipse::from_f64(cx, cy, hx, hy);
             // `rows` also asserts that its stop at `cap` never acts.
             let n = rows(&img, &e, cap, |_| {});
             assert!(
@@ -503,14 +509,17 @@ mod tests {
 
     #[test]
     fn step_grows_with_the_window() {
-        let small = ellipse(0.0, 0.0, 5.0, 5.0);
+        let small = Ellipse::from_f64(0.0, 0.0, 5.0, 5.0);
         assert_eq!(sampling_step(&small, 1000), 1);
-        let big = ellipse(0.0, 0.0, 200.0, 100.0);
+        let big = Ellipse::from_f64(0.0, 0.0, 200.0, 100.0);
         let s = sampling_step(&big, 1000);
         assert!((8..=10).contains(&s), "{s}");
         assert_eq!(sampling_step(&big, 0), 0);
-        assert_eq!(sampling_step(&ellipse(0.0, 0.0, 0.25, 9.0), 10), 0);
-        let huge = ellipse(0.0, 0.0, 32_767.9, 32_767.9);
+        assert_eq!(
+            sampling_step(&Ellipse::from_f64(0.0, 0.0, 0.25, 9.0), 10),
+            0
+        );
+        let huge = Ellipse::from_f64(0.0, 0.0, 32_767.9, 32_767.9);
         assert_eq!(sampling_step(&huge, 1), 65_536);
         assert!(sampling_step(&huge, u32::MAX) >= 228);
     }
@@ -519,7 +528,7 @@ mod tests {
     fn symmetric_window_is_symmetric() {
         let buf = vec![0u8; 21 * 21];
         let img = ImageView::<Gray8>::new(&buf, 21, 21, 21).unwrap();
-        let px = collect(&img, &ellipse(10.0, 10.0, 6.5, 4.25), 10_000);
+        let px = collect(&img, &Ellipse::from_f64(10.0, 10.0, 6.5, 4.25), 10_000);
         for &(x, y, w) in &px {
             let mirror = px.iter().find(|p| p.0 == 20 - x && p.1 == 20 - y).unwrap();
             assert!((mirror.2 as i64 - w as i64).abs() <= 2, "{x},{y}");

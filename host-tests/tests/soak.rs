@@ -30,11 +30,10 @@
 //! --nocapture`.
 
 use rbtrack::fixed::Q16;
-use rbtrack::image::{ImageView, Rgb565Le, Rgb8x8x8};
+use rbtrack::image::{rgb888_to_rgb565, ImageView, Rgb565Le, Rgb8x8x8};
 use rbtrack::kalman::{BlockNoise, SharedCovariance, Sym2, Sym4};
 use rbtrack::tracker::{Config, Estimate, Status, Tracker, Variant};
 use rbtrack::window::Ellipse;
-use rbtrack_host::pixels::rgb565;
 use std::time::Instant;
 
 const W: usize = 32;
@@ -135,7 +134,7 @@ impl Stream {
                 p if (NOISE..BACK).contains(&p) => [r as u8, (r >> 8) as u8, (r >> 16) as u8],
                 _ => c.map(|v| (v as i32 + (r % 13) as i32 - 6).clamp(0, 255) as u8),
             };
-            px.copy_from_slice(&rgb565(c[0], c[1], c[2]).to_le_bytes());
+            px.copy_from_slice(&rgb888_to_rgb565(c[0], c[1], c[2]).to_le_bytes());
         }
         self.advance();
     }

@@ -444,15 +444,6 @@ mod tests {
     use std::vec;
     use std::vec::Vec;
 
-    fn ellipse(cx: f64, cy: f64, hx: f64, hy: f64) -> Ellipse {
-        Ellipse::new(
-            Q16::from_f64(cx),
-            Q16::from_f64(cy),
-            Q16::from_f64(hx),
-            Q16::from_f64(hy),
-        )
-    }
-
     fn cue() -> GradientCue {
         GradientCue::new(&GradientConfig::new()).unwrap()
     }
@@ -503,29 +494,32 @@ mod tests {
         let buf = vec![255u8; 30 * 30];
         let img = ImageView::<Gray8>::new(&buf, 30, 30, 30).unwrap();
         assert_eq!(
-            cue().evaluate(&img, &ellipse(15.0, 15.0, 8.0, 5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(15.0, 15.0, 8.0, 5.0)),
             Q16::ZERO
         );
         let one = ImageView::<Gray8>::new(&[7], 1, 1, 1).unwrap();
         assert_eq!(
-            cue().evaluate(&one, &ellipse(0.0, 0.0, 3.0, 3.0)),
+            cue().evaluate(&one, &Ellipse::from_f64(0.0, 0.0, 3.0, 3.0)),
             Q16::ZERO
         );
         assert_eq!(
-            cue().evaluate(&img, &ellipse(15.0, 15.0, 0.0, 5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(15.0, 15.0, 0.0, 5.0)),
             Q16::ZERO
         );
         assert_eq!(
-            cue().evaluate(&img, &ellipse(15.0, 15.0, -4.0, -5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(15.0, 15.0, -4.0, -5.0)),
             Q16::ZERO
         );
         // Wholly outside: no sample in the frame.
         assert_eq!(
-            cue().evaluate(&img, &ellipse(-100.0, 15.0, 8.0, 5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(-100.0, 15.0, 8.0, 5.0)),
             Q16::ZERO
         );
         assert_eq!(
-            cue().evaluate(&img, &ellipse(-32_768.0, 32_767.0, 32_767.0, 32_767.0)),
+            cue().evaluate(
+                &img,
+                &Ellipse::from_f64(-32_768.0, 32_767.0, 32_767.0, 32_767.0)
+            ),
             Q16::ZERO
         );
     }
@@ -548,19 +542,25 @@ mod tests {
         let buf = disc_frame(80, 60, 40.0, 30.0, 20.0, 10.0, 60);
         let img = ImageView::<Gray8>::new(&buf, 80, 60, 80).unwrap();
         let c = cue();
-        let on = c.evaluate(&img, &ellipse(40.0, 30.0, 20.0, 10.0)).to_f64();
+        let on = c
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 20.0, 10.0))
+            .to_f64();
         // A 60-level step gives 180 of 192 on the axes, a little less on the diagonals.
         assert!(on > 0.85 && on <= 1.0, "{on}");
-        let off = c.evaluate(&img, &ellipse(40.0, 30.0, 10.0, 3.0)).to_f64();
+        let off = c
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 10.0, 3.0))
+            .to_f64();
         assert!(off < 0.05, "{off}");
-        let shifted = c.evaluate(&img, &ellipse(40.0, 30.0, 22.5, 11.5)).to_f64();
+        let shifted = c
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 22.5, 11.5))
+            .to_f64();
         assert!(shifted > 0.8, "search finds the edge: {shifted}");
         // A saturation above the step scales the cue down in proportion.
         let mut cfg = GradientConfig::new();
         cfg.saturation = 360;
         let half = GradientCue::new(&cfg)
             .unwrap()
-            .evaluate(&img, &ellipse(40.0, 30.0, 20.0, 10.0));
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 20.0, 10.0));
         assert!(half.to_f64() < 0.7 && half.to_f64() > 0.5, "{half}");
     }
 
@@ -569,7 +569,7 @@ mod tests {
         let buf = disc_frame(40, 40, 0.0, 20.0, 10.0, 10.0, 255);
         let img = ImageView::<Gray8>::new(&buf, 40, 40, 40).unwrap();
         let g = cue()
-            .evaluate(&img, &ellipse(0.0, 20.0, 10.0, 10.0))
+            .evaluate(&img, &Ellipse::from_f64(0.0, 20.0, 10.0, 10.0))
             .to_f64();
         // About half of the boundary is inside the frame.
         assert!(g > 0.35 && g < 0.65, "{g}");
@@ -601,7 +601,7 @@ mod tests {
             config.points = 1 + rng.below(MAX_POINTS as u32) as usize;
             config.search_px = rng.below(8);
             let c = GradientCue::new(&config).unwrap();
-            let e = ellipse(
+            let e = Ellipse::from_f64(
                 rng.below(90) as f64 - 15.0 + rng.uniform().to_f64(),
                 rng.below(80) as f64 - 15.0 + rng.uniform().to_f64(),
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
@@ -641,7 +641,7 @@ mod tests {
             let (cx, cy) = (rng.below(70) as f64 - 3.0, rng.below(55) as f64 - 3.0);
             let windows: Vec<Ellipse> = (0..12)
                 .map(|_| {
-                    ellipse(
+                    Ellipse::from_f64(
                         cx + 6.0 * rng.uniform().to_f64() - 3.0,
                         cy + 6.0 * rng.uniform().to_f64() - 3.0,
                         0.4 + 15.0 * rng.uniform().to_f64(),
@@ -668,7 +668,7 @@ mod tests {
             .flat_map(|&v| if v > 0 { [0xFF, 0xFF] } else { [0, 0] })
             .collect();
         let yuv: Vec<u8> = gray.iter().flat_map(|&v| [v, 128]).collect();
-        let e = ellipse(16.0, 12.0, 9.0, 6.0);
+        let e = Ellipse::from_f64(16.0, 12.0, 9.0, 6.0);
         let c = cue();
         let g = c.evaluate(&ImageView::<Gray8>::new(&gray, 32, 24, 32).unwrap(), &e);
         assert!(g > Q16::from_f64(0.9));

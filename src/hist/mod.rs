@@ -132,7 +132,7 @@ fn fill_rows<Bn: Binning, P: PixelFormat, const B: usize>(
         };
         let (counts, touched) = (&mut h.counts, &mut h.touched);
         let mut weights = run.weights;
-        runs.for_each_bin::<Bn>(run.y, run.x0, run.step, run.count, |bin| {
+        runs.for_each_bin::<Bn>(run.y, run.pixels, |bin| {
             let w = weighting.weight(weights.next());
             if let Some(c) = counts.get_mut(bin as usize) {
                 if *c == 0 && w != 0 {
@@ -410,15 +410,6 @@ mod tests {
     use std::vec;
     use std::vec::Vec;
 
-    fn ellipse(cx: f64, cy: f64, hx: f64, hy: f64) -> Ellipse {
-        Ellipse::new(
-            Q16::from_f64(cx),
-            Q16::from_f64(cy),
-            Q16::from_f64(hx),
-            Q16::from_f64(hy),
-        )
-    }
-
     fn noise(len: usize, seed: u64) -> Vec<u8> {
         let mut r = Rng::new(seed);
         (0..len).map(|_| r.next_u32() as u8).collect()
@@ -438,7 +429,7 @@ mod tests {
             let (w, h, stride) = (30usize, 20usize, 34usize);
             let buf = noise(stride * h * bytes_per_px, 9);
             let img = ImageView::<P>::new(&buf, w, h, stride).unwrap();
-            let e = ellipse(14.6, 9.2, 11.0, 7.5);
+            let e = Ellipse::from_f64(14.6, 9.2, 11.0, 7.5);
             let mut kernel = 0u64;
             let mut per_bin = vec![0u64; 512];
             visit(&img, &e, 300, |row, x, wt| {
@@ -470,7 +461,7 @@ mod tests {
     fn every_binning_fills() {
         let buf = noise(16 * 16 * 2, 3);
         let img = ImageView::<Rgb565Le>::new(&buf, 16, 16, 16).unwrap();
-        let e = ellipse(8.0, 8.0, 6.0, 6.0);
+        let e = Ellipse::from_f64(8.0, 8.0, 6.0, 6.0);
         let mut h8 = Histogram::<512>::new();
         let mut h4 = Histogram::<256>::new();
         let mut hy = Histogram::<256>::new();
@@ -491,7 +482,7 @@ mod tests {
         let buf = noise(32 * 32, 4);
         let img = ImageView::<Gray8>::new(&buf, 32, 32, 32).unwrap();
         let mut h = Histogram::<64>::new();
-        h.fill::<Luma64, _>(&img, &ellipse(16.0, 16.0, 10.0, 10.0), 500);
+        h.fill::<Luma64, _>(&img, &Ellipse::from_f64(16.0, 16.0, 10.0, 10.0), 500);
         assert!(!h.is_empty());
         h.clear();
         assert!(h.is_empty());
@@ -507,16 +498,16 @@ mod tests {
     fn empty_window_gives_zero() {
         let img = ImageView::<Gray8>::new(&[1, 2, 3, 4], 2, 2, 2).unwrap();
         let mut h = Histogram::<64>::new();
-        h.fill::<Luma64, _>(&img, &ellipse(1.0, 1.0, 1.0, 1.0), 10);
+        h.fill::<Luma64, _>(&img, &Ellipse::from_f64(1.0, 1.0, 1.0, 1.0), 10);
         let model = Model::from_histogram(&h);
         assert_eq!(
-            h.fill::<Luma64, _>(&img, &ellipse(-9.0, 1.0, 1.0, 1.0), 10),
+            h.fill::<Luma64, _>(&img, &Ellipse::from_f64(-9.0, 1.0, 1.0, 1.0), 10),
             0
         );
         assert_eq!(h.bhattacharyya(&model), Q16::ZERO);
         assert_eq!(h.probability(0), 0);
         assert!(Model::from_histogram(&h).is_empty());
-        h.fill::<Luma64, _>(&img, &ellipse(1.0, 1.0, 1.0, 1.0), 10);
+        h.fill::<Luma64, _>(&img, &Ellipse::from_f64(1.0, 1.0, 1.0, 1.0), 10);
         assert_eq!(h.bhattacharyya(&Model::new()), Q16::ZERO);
         // An empty histogram leaves the model alone.
         let mut m = model.clone();
@@ -543,13 +534,13 @@ mod tests {
                     .collect()
             };
             let img = ImageView::<Rgb888>::new(&buf, w, hgt, w).unwrap();
-            let e1 = ellipse(
+            let e1 = Ellipse::from_f64(
                 r.below(40) as f64,
                 r.below(30) as f64,
                 1.0 + r.below(25) as f64,
                 1.0 + r.below(25) as f64,
             );
-            let e2 = ellipse(
+            let e2 = Ellipse::from_f64(
                 r.below(40) as f64,
                 r.below(30) as f64,
                 1.0 + r.below(25) as f64,
@@ -574,7 +565,7 @@ mod tests {
         let (w, h) = (300usize, 300usize);
         let buf = vec![0xFFu8; w * h * 2];
         let img = ImageView::<Rgb565Be>::new(&buf, w, h, w).unwrap();
-        let e = ellipse(150.0, 150.0, 140.0, 140.0);
+        let e = Ellipse::from_f64(150.0, 150.0, 140.0, 140.0);
         let mut hist = Histogram::<512>::new();
         let n = hist.fill::<Rgb8x8x8, _>(&img, &e, u32::MAX);
         assert!(n <= MAX_CAP && n > MAX_CAP / 2, "{n}");
@@ -607,13 +598,13 @@ mod tests {
         let img = ImageView::<Gray8>::new(&[0, 100, 255], 3, 1, 3).unwrap();
         let mut h = Histogram::<64>::new();
         assert_eq!(
-            h.fill::<Luma64, _>(&img, &ellipse(1.0, 0.0, 1.0, 1.0), 100),
+            h.fill::<Luma64, _>(&img, &Ellipse::from_f64(1.0, 0.0, 1.0, 1.0), 100),
             1
         );
         assert_eq!(h.touched(), &[25]);
         assert_eq!(h.mass(), WEIGHT_ONE);
         // Wider: the side pixels sit at d = 1/2, weight 3/4.
-        h.fill::<Luma64, _>(&img, &ellipse(1.0, 0.0, 2.0, 1.0), 100);
+        h.fill::<Luma64, _>(&img, &Ellipse::from_f64(1.0, 0.0, 2.0, 1.0), 100);
         assert_eq!(h.touched(), &[0, 25, 63]);
         assert_eq!(h.count(0), 49152);
         assert_eq!(h.count(63), 49152);
@@ -643,7 +634,7 @@ mod tests {
         let dark = Luma64::from_luma(40) as usize;
         let mut ring = Histogram::<64>::new();
         // Window: the square's inscribed circle (radius 2.5); ring out to radius 5.
-        let inner = ellipse(5.0, 5.0, 2.5, 2.5);
+        let inner = Ellipse::from_f64(5.0, 5.0, 2.5, 2.5);
         let n = ring.fill_ring::<Luma64, Gray8>(&img, &inner, Q16::from_int(2), 1000);
         // By hand: pixels at distance d from (5, 5) with 2.5 <= d < 5 count one unit each:
         // 69 pixels have d^2 < 25, 21 of them d^2 <= 6, so 48 are in the ring, of which the
@@ -673,7 +664,7 @@ mod tests {
     fn halves_split_the_rows_and_sum_to_the_window() {
         let buf = noise(30 * 20 * 3, 11);
         let img = ImageView::<Rgb888>::new(&buf, 30, 20, 30).unwrap();
-        let e = ellipse(14.2, 9.6, 9.0, 7.0);
+        let e = Ellipse::from_f64(14.2, 9.6, 9.0, 7.0);
         let mut whole = Histogram::<512>::new();
         let (mut upper, mut lower) = (Histogram::<512>::new(), Histogram::<512>::new());
         let n = whole.fill::<Rgb8x8x8, Rgb888>(&img, &e, 300);

@@ -22,6 +22,13 @@ pub const fn rgb565_to_rgb888(v: u16) -> (u8, u8, u8) {
     )
 }
 
+/// The RGB565 word of 8-bit RGB, each channel truncated to its 5 or 6 bits (the inverse
+/// of [`rgb565_to_rgb888`] on the colours it gives).
+#[inline(always)]
+pub const fn rgb888_to_rgb565(r: u8, g: u8, b: u8) -> u16 {
+    ((r as u16 >> 3) << 11) | ((g as u16 >> 2) << 5) | (b as u16 >> 3)
+}
+
 /// Luma sums of an RGB565 word's high byte (`RRRRRGGG`): `77 R8 + 150 G8_hi + 128`,
 /// where `G8 = G8_hi + G8_lo` splits the widened green into the part from the high byte's
 /// three green bits (`g << 5 | g >> 1`) and the part from the low byte's (`g << 2`): their
@@ -218,6 +225,7 @@ mod tests {
     fn rgb565_bins_equal_widened_rgb888_bins() {
         for v in 0..=u16::MAX {
             let (r, g, b) = rgb565_to_rgb888(v);
+            assert_eq!(rgb888_to_rgb565(r, g, b), v);
             let [hi, lo] = v.to_be_bytes();
             assert_eq!(rgb565_luma(hi, lo), luma_of_rgb(r, g, b), "{v:#06x}");
             assert_eq!(Rgb8x8x8::from_rgb565(v), Rgb8x8x8::from_rgb888(r, g, b));

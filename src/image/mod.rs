@@ -67,9 +67,10 @@ mod bins;
 mod pixel;
 
 pub use bins::{
-    luma_of_rgb, rgb565_luma, rgb565_to_rgb888, rgb_to_yuv, yuv_to_rgb, Binning, Luma64, Rgb8x8x4,
-    Rgb8x8x8, Yuv8x8x4,
+    luma_of_rgb, rgb565_luma, rgb565_to_rgb888, rgb888_to_rgb565, rgb_to_yuv, yuv_to_rgb, Binning,
+    Luma64, Rgb8x8x4, Rgb8x8x8, Yuv8x8x4,
 };
+pub(crate) use pixel::Run;
 pub use pixel::{Gray8, PixelFormat, Rgb565, Rgb565Be, Rgb565Le, Rgb888, Uyvy, Yuv422, Yuyv};
 
 /// Largest accepted width or height, px (so that coordinates fit Q16.16 with room to spare).
@@ -384,26 +385,25 @@ pub(crate) struct Runs<'a, P: PixelFormat> {
 }
 
 impl<P: PixelFormat> Runs<'_, P> {
-    /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` (px) of row `y`, left to
-    /// right, read as one checked slice of the frame (the fixed-size formats without a
-    /// bounds check per pixel). The run lies in the frame: `y < height`, `step >= 1` and
-    /// `x0 + (count - 1) step < width`, the caller's contract (every window run and map
-    /// row is clipped to the frame).
+    /// Calls `f(bin)` for the pixels of `run` along row `y`, left to right, read as one
+    /// checked slice of the frame (the fixed-size formats without a bounds check per
+    /// pixel). The run lies in the frame: `y < height`, `step >= 1` and `x0 + (count - 1)
+    /// step < width`, the caller's contract (every window run and map row is clipped to
+    /// the frame).
     #[inline(always)]
-    pub(crate) fn for_each_bin<Bn: Binning>(
-        &self,
-        y: usize,
-        x0: usize,
-        step: usize,
-        count: u32,
-        f: impl FnMut(u16),
-    ) {
+    pub(crate) fn for_each_bin<Bn: Binning>(&self, y: usize, run: Run, f: impl FnMut(u16)) {
+        let Run { x0, step, count } = run;
         debug_assert!(y < self.height && step >= 1, "run outside the frame");
         debug_assert!(
             count == 0 || x0 + (count as usize - 1) * step < self.width,
             "run past the row's end"
         );
-        P::for_each_bin::<Bn>(self.bytes, y * self.stride + x0, step, count, f)
+        // The run counted from the frame's start: pixels of one row, read from the frame.
+        let run = Run {
+            x0: y * self.stride + x0,
+            ..run
+        };
+        P::for_each_bin::<Bn>(self.bytes, run, f)
     }
 }
 

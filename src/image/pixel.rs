@@ -15,6 +15,18 @@ pub trait PixelFormat: Read + Copy + core::fmt::Debug + 'static {
 mod private {
     use super::Binning;
 
+    /// A run of pixels along a row: `count` of them from column `x0`, `step` apart (px,
+    /// `step >= 1`).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct Run {
+        /// The first pixel's column, px.
+        pub x0: usize,
+        /// The distance between two pixels, px.
+        pub step: usize,
+        /// The number of pixels.
+        pub count: u32,
+    }
+
     /// How a format reads pixels from bytes (sealed, and called by [`super::super::ImageView`]
     /// and [`super::super::Row`] alone). Every method returns 0 for a pixel past the end
     /// of the bytes, so none can panic.
@@ -25,36 +37,29 @@ mod private {
         fn luma_at_byte(bytes: &[u8], index: usize) -> u8;
         /// Bin (`0..Bn::BINS`) of pixel `x` (px) of `row`; 0 past its end.
         fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16;
-        /// Calls `f(bin)` for the `count` pixels `x0, x0 + step, ...` of `bytes` (px,
-        /// `step >= 1`), left to right, as [`Read::bin_at`] would give them; the
-        /// fixed-size formats read them without a bounds check per pixel.
+        /// Calls `f(bin)` for the pixels of `run` in `bytes`, left to right, as
+        /// [`Read::bin_at`] would give them; the fixed-size formats read them without a
+        /// bounds check per pixel.
         #[inline(always)]
-        fn for_each_bin<Bn: Binning>(
-            bytes: &[u8],
-            x0: usize,
-            step: usize,
-            count: u32,
-            mut f: impl FnMut(u16),
-        ) {
-            let mut x = x0;
-            for _ in 0..count {
+        fn for_each_bin<Bn: Binning>(bytes: &[u8], run: Run, mut f: impl FnMut(u16)) {
+            let mut x = run.x0;
+            for _ in 0..run.count {
                 f(Self::bin_at::<Bn>(bytes, x));
-                x = x.wrapping_add(step);
+                x = x.wrapping_add(run.step);
             }
         }
     }
 }
 
 pub(super) use private::Read;
+pub(crate) use private::Run;
 
 /// [`Read::for_each_bin`] for a format of `BPP` bytes per pixel, `bin` giving a
 /// pixel's bin from its bytes: one bounds check per run, then fixed-size chunks.
 #[inline(always)]
 fn bins_of_run<const BPP: usize>(
     row: &[u8],
-    x0: usize,
-    step: usize,
-    count: u32,
+    Run { x0, step, count }: Run,
     bin: impl Fn(&[u8; BPP]) -> u16,
     mut f: impl FnMut(u16),
 ) {
@@ -147,6 +152,21 @@ impl PixelFormat for Gray8 {
     const PAIRED: bool = false;
 }
 
+impl<const BIG_ENDIAN: bool> PixelFormat for Rgb565<BIG_ENDIAN> {
+    const BYTES_PER_PIXEL: usize = 2;
+    const PAIRED: bool = false;
+}
+
+impl PixelFormat for Rgb888 {
+    const BYTES_PER_PIXEL: usize = 3;
+    const PAIRED: bool = false;
+}
+
+impl<const CHROMA_FIRST: bool> PixelFormat for Yuv422<CHROMA_FIRST> {
+    const BYTES_PER_PIXEL: usize = 2;
+    const PAIRED: bool = true;
+}
+
 impl Read for Gray8 {
     #[inline(always)]
     fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
@@ -157,14 +177,8 @@ impl Read for Gray8 {
         Bn::from_luma(Self::luma_at_byte(row, x))
     }
     #[inline(always)]
-    fn for_each_bin<Bn: Binning>(
-        row: &[u8],
-        x0: usize,
-        step: usize,
-        count: u32,
-        f: impl FnMut(u16),
-    ) {
-        bins_of_run::<1>(row, x0, step, count, |&[y]| Bn::from_luma(y), f)
+    fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
+        bins_of_run::<1>(row, run, |&[y]| Bn::from_luma(y), f)
     }
 }
 
@@ -175,11 +189,6 @@ fn rgb565_word(row: &[u8], x: usize, big_endian: bool) -> u16 {
         Some(&[a, b]) => u16::from_le_bytes([a, b]),
         _ => 0,
     }
-}
-
-impl<const BIG_ENDIAN: bool> PixelFormat for Rgb565<BIG_ENDIAN> {
-    const BYTES_PER_PIXEL: usize = 2;
-    const PAIRED: bool = false;
 }
 
 impl<const BIG_ENDIAN: bool> Read for Rgb565<BIG_ENDIAN> {
@@ -196,18 +205,10 @@ impl<const BIG_ENDIAN: bool> Read for Rgb565<BIG_ENDIAN> {
         Bn::from_rgb565(rgb565_word(row, x, BIG_ENDIAN))
     }
     #[inline(always)]
-    fn for_each_bin<Bn: Binning>(
-        row: &[u8],
-        x0: usize,
-        step: usize,
-        count: u32,
-        f: impl FnMut(u16),
-    ) {
+    fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
         bins_of_run::<2>(
             row,
-            x0,
-            step,
-            count,
+            run,
             |&px| {
                 Bn::from_rgb565(if BIG_ENDIAN {
                     u16::from_be_bytes(px)
@@ -218,11 +219,6 @@ impl<const BIG_ENDIAN: bool> Read for Rgb565<BIG_ENDIAN> {
             f,
         )
     }
-}
-
-impl PixelFormat for Rgb888 {
-    const BYTES_PER_PIXEL: usize = 3;
-    const PAIRED: bool = false;
 }
 
 impl Read for Rgb888 {
@@ -245,27 +241,9 @@ impl Read for Rgb888 {
         }
     }
     #[inline(always)]
-    fn for_each_bin<Bn: Binning>(
-        row: &[u8],
-        x0: usize,
-        step: usize,
-        count: u32,
-        f: impl FnMut(u16),
-    ) {
-        bins_of_run::<3>(
-            row,
-            x0,
-            step,
-            count,
-            |&[r, g, b]| Bn::from_rgb888(r, g, b),
-            f,
-        )
+    fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
+        bins_of_run::<3>(row, run, |&[r, g, b]| Bn::from_rgb888(r, g, b), f)
     }
-}
-
-impl<const CHROMA_FIRST: bool> PixelFormat for Yuv422<CHROMA_FIRST> {
-    const BYTES_PER_PIXEL: usize = 2;
-    const PAIRED: bool = true;
 }
 
 impl<const CHROMA_FIRST: bool> Read for Yuv422<CHROMA_FIRST> {
@@ -317,7 +295,8 @@ mod tests {
                 for step in 1..6 {
                     for count in 0..8u32 {
                         let mut got = Vec::new();
-                        P::for_each_bin::<Rgb8x8x8>(row, x0, step, count, |b| got.push(b));
+                        let run = Run { x0, step, count };
+                        P::for_each_bin::<Rgb8x8x8>(row, run, |b| got.push(b));
                         let want: Vec<u16> = (0..count as usize)
                             .map(|k| P::bin_at::<Rgb8x8x8>(row, x0 + k * step))
                             .collect();
