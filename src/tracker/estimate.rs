@@ -140,8 +140,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         if estimate.confidence < self.config.adapt_above || rate <= Q16::ZERO {
             return;
         }
-        let histograms = &mut self.scratch.histograms;
-        let pixels = (self.state.colour).adapt::<Bn, P>(frame, &estimate.ellipse, histograms, rate);
+        let (colour, histograms) = (&mut self.state.colour, &mut self.scratch.histograms);
+        let pixels = colour.adapt::<Bn, P>(frame, &estimate.ellipse, histograms, rate);
         self.report.read(pixels);
     }
 

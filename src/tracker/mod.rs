@@ -324,7 +324,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         check_init(&self.config, frame, &init)?;
         let initial = self.derived.initial_cov;
         let size_cov = SharedCovariance::new(initial, initial, *self.state.size_cov.noise())?;
-        (self.state.colour).learn::<Bn, P>(frame, &init, &mut self.scratch.histograms);
+        self.state
+            .colour
+            .learn::<Bn, P>(frame, &init, &mut self.scratch.histograms);
         self.derived.calibration = self.calibrate(frame, &init);
         let state = &mut self.state;
         state.ground = GroundPlane::new();

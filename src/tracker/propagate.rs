@@ -75,8 +75,10 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let dx = estimate.ellipse.cx - (last.ellipse.cx + last.vx);
         let dy = estimate.ellipse.cy - (last.ellipse.cy + last.vy);
         let innovation = Q16::from_bits((dx.abs().to_bits() >> 1) + (dy.abs().to_bits() >> 1));
-        let spread =
-            (self.state.motion_spread).unwrap_or_else(|| self.nominal_noise(&estimate.ellipse));
+        let spread = self
+            .state
+            .motion_spread
+            .unwrap_or_else(|| self.nominal_noise(&estimate.ellipse));
         spread + Q16::from_bits((innovation - spread).to_bits() >> SPREAD_SMOOTHING_LOG2)
     }
 
