@@ -17,11 +17,11 @@ mod common;
 
 use common::{hd_scene, qvga_scene, Scene, BINS};
 use iai_callgrind::{library_benchmark, library_benchmark_group, main};
-use rbtrack::cue::{GradientConfig, GradientCue};
+use rbtrack::cue::GradientCue;
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
 use rbtrack::image::{PixelFormat, Rgb565Le, Rgb888, Rgb8x8x8};
-use rbtrack::kalman::{BlockNoise, Mean, SharedCovariance, SharedGain, Sym2};
+use rbtrack::kalman::{BlockNoise, SharedCovariance, SharedGain, Size, Sym2};
 use rbtrack::resample::{normalise, resample, Normalised, Scheme};
 use rbtrack::rng::Rng;
 use rbtrack::tracker::{Estimate, Tracker, Variant};
@@ -102,15 +102,12 @@ fn window() -> &'static mut Window {
     let mut hist = Histogram::new();
     hist.fill::<Rgb8x8x8, _>(&scene.measured(), &ellipse, config.pixels_per_window);
     let model = Model::from_histogram(&hist);
-    let mut cue = GradientConfig::new();
-    cue.points = config.gradient_points as usize;
-    cue.search_px = config.gradient_search as u32;
     Box::leak(Box::new(Window {
         scene,
         ellipse,
         hist,
         model,
-        cue: GradientCue::new(&cue).expect("default cue configuration"),
+        cue: GradientCue::new(&config.gradient()).expect("default cue configuration"),
     }))
 }
 
@@ -166,10 +163,10 @@ fn resample_systematic(w: &'static mut Weights) -> bool {
     black_box(resample(Scheme::Systematic, &mut w.weights, &mut w.rng, &mut w.out).is_ok())
 }
 
-/// The shared Kalman covariance of the default configuration and 100 leaf means.
+/// The shared Kalman covariance of the default configuration and 100 particle sizes.
 struct Kalman {
     cov: SharedCovariance,
-    means: [Mean; 100],
+    sizes: [Size; 100],
 }
 
 fn kalman() -> &'static mut Kalman {
@@ -178,25 +175,21 @@ fn kalman() -> &'static mut Kalman {
     let p0 = Sym2::diagonal(r, q);
     let cov =
         SharedCovariance::new(p0, p0, BlockNoise::diagonal([q; 4], [r, r])).expect("valid noise");
-    let means = core::array::from_fn(|i| {
-        [
-            Q16::from_int(20 + i as i32 % 7),
-            Q16::ZERO,
-            Q16::from_int(9),
-            Q16::ZERO,
-        ]
-    });
-    Box::leak(Box::new(Kalman { cov, means }))
+    let sizes =
+        core::array::from_fn(|i| Size::at_rest(Q16::from_int(9), Q16::from_int(20 + i as i32 % 7)));
+    Box::leak(Box::new(Kalman { cov, sizes }))
 }
 
 // One frame of the RBPF's Kalman work: the shared covariance's prediction, gain and
-// update, and the mean update of 100 leaves.
+// update, and the mean update of 100 particle sizes.
 #[library_benchmark]
 #[bench::n100(kalman())]
 fn kalman_predict_update(k: &'static mut Kalman) -> SharedGain {
     k.cov.predict(Q16::ONE);
-    let y = [Q16::from_int(22), Q16::from_int(10)];
-    black_box(k.cov.update(&mut k.means, y))
+    black_box(
+        k.cov
+            .update(&mut k.sizes, Q16::from_int(10), Q16::from_int(22)),
+    )
 }
 
 library_benchmark_group!(

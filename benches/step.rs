@@ -14,7 +14,7 @@
 //! - `primitives/*`: on the target's window of the QVGA frame: `Histogram::fill`,
 //!   `Histogram::bhattacharyya`, `GradientCue::evaluate`, resampling of 100 weights
 //!   (normalise, systematic draw), the shared Kalman covariance's predict / gain / update
-//!   and the leaf mean update of 100 particles.
+//!   and the size mean update of 100 particles.
 //!
 //! Deterministic instruction counts of the same cases: `benches/iai.rs`.
 
@@ -22,11 +22,11 @@ mod common;
 
 use common::{hd_scene, qvga_scene, Scene, BINS};
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
-use rbtrack::cue::{GradientConfig, GradientCue};
+use rbtrack::cue::GradientCue;
 use rbtrack::fixed::Q16;
 use rbtrack::hist::{Histogram, Model};
 use rbtrack::image::{PixelFormat, Rgb8x8x8};
-use rbtrack::kalman::{BlockNoise, SharedCovariance, Sym2};
+use rbtrack::kalman::{BlockNoise, SharedCovariance, Size, Sym2};
 use rbtrack::resample::{normalise, resample, Scheme};
 use rbtrack::rng::Rng;
 use rbtrack::tracker::Variant;
@@ -88,10 +88,7 @@ fn primitives(c: &mut Criterion) {
         b.iter(|| black_box(black_box(&hist).bhattacharyya(black_box(&model))))
     });
 
-    let mut cue_config = GradientConfig::new();
-    cue_config.points = config.gradient_points as usize;
-    cue_config.search_px = config.gradient_search as u32;
-    let cue = GradientCue::new(&cue_config).expect("default cue configuration");
+    let cue = GradientCue::new(&config.gradient()).expect("default cue configuration");
     c.bench_function("primitives/gradient_cue", |b| {
         b.iter(|| black_box(cue.evaluate(black_box(&img), black_box(&e))))
     });
@@ -132,23 +129,15 @@ fn primitives(c: &mut Criterion) {
         )
     });
     let gain = cov.gain();
-    let means: Vec<[Q16; 4]> = (0..100)
-        .map(|i| {
-            [
-                Q16::from_int(20 + i % 7),
-                Q16::ZERO,
-                Q16::from_int(9),
-                Q16::ZERO,
-            ]
-        })
+    let sizes: Vec<Size> = (0..100)
+        .map(|i| Size::at_rest(Q16::from_int(9), Q16::from_int(20 + i % 7)))
         .collect();
-    let y = [Q16::from_int(22), Q16::from_int(10)];
     c.bench_function("primitives/kalman_update_mean_100", |b| {
         b.iter_batched_ref(
-            || means.clone(),
+            || sizes.clone(),
             |m| {
-                for mean in m.iter_mut() {
-                    gain.update_mean(mean, y);
+                for size in m.iter_mut() {
+                    gain.update_mean(size, Q16::from_int(10), Q16::from_int(22));
                 }
             },
             BatchSize::SmallInput,

@@ -22,7 +22,7 @@ mod budget {
     use rbtrack::tracker::{Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
     use rbtrack_firmware::run::{self, BINS};
-    use rbtrack_firmware::scene::{self, FRAMES};
+    use rbtrack_firmware::scene::FRAMES;
     use static_cell::ConstStaticCell;
 
     /// Configurations: particles, pixels per window, gradient points.
@@ -38,10 +38,7 @@ mod budget {
         (25, 100, 12),
     ];
 
-    static FRAME: ConstStaticCell<[u8; scene::FRAME_BYTES]> =
-        ConstStaticCell::new([0; scene::FRAME_BYTES]);
-    static T100: ConstStaticCell<Tracker<Rgb8x8x8, 100, BINS>> =
-        ConstStaticCell::new(Tracker::unstarted());
+    // The frame buffer and the tracker of N = 100 are the board's; these the smaller ones.
     static T50: ConstStaticCell<Tracker<Rgb8x8x8, 50, BINS>> =
         ConstStaticCell::new(Tracker::unstarted());
     static T25: ConstStaticCell<Tracker<Rgb8x8x8, 25, BINS>> =
@@ -77,12 +74,9 @@ mod budget {
         let Some(mut cp) = cortex_m::Peripherals::take() else {
             panic!("peripherals taken twice");
         };
-        let (Some(frame), Some(t100), Some(t50), Some(t25)) = (
-            FRAME.try_take(),
-            T100.try_take(),
-            T50.try_take(),
-            T25.try_take(),
-        ) else {
+        let (Some((frame, t100)), Some(t50), Some(t25)) =
+            (board::statics(), T50.try_take(), T25.try_take())
+        else {
             panic!("statics taken twice");
         };
         SysTick::start(&mut cp.SYST);
@@ -110,18 +104,11 @@ mod budget {
                 row[1].1
             );
         }
-        debug::exit(debug::EXIT_SUCCESS);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::exit(debug::EXIT_SUCCESS)
     }
 
     #[panic_handler]
     fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-        hprintln!("panic: {}", info);
-        debug::exit(debug::EXIT_FAILURE);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::report_panic(info)
     }
 }

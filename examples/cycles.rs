@@ -23,17 +23,14 @@ mod cycles {
     use rbtrack::image::Rgb8x8x8;
     use rbtrack::profile::NoCounter;
     use rbtrack::tracker::{Config, Tracker, Variant};
+    use rbtrack_firmware::board;
     use rbtrack_firmware::run::{self, BINS};
-    use rbtrack_firmware::scene;
     use static_cell::ConstStaticCell;
 
     /// Frames stepped per configuration.
     const FRAMES: usize = 5;
 
-    static FRAME: ConstStaticCell<[u8; scene::FRAME_BYTES]> =
-        ConstStaticCell::new([0; scene::FRAME_BYTES]);
-    static T100: ConstStaticCell<Tracker<Rgb8x8x8, 100, BINS>> =
-        ConstStaticCell::new(Tracker::unstarted());
+    // The frame buffer and the tracker of N = 100 are the board's; this the smaller one.
     static T50: ConstStaticCell<Tracker<Rgb8x8x8, 50, BINS>> =
         ConstStaticCell::new(Tracker::unstarted());
 
@@ -58,9 +55,7 @@ mod cycles {
 
     #[entry]
     fn main() -> ! {
-        let (Some(frame), Some(t100), Some(t50)) =
-            (FRAME.try_take(), T100.try_take(), T50.try_take())
-        else {
+        let (Some((frame, t100)), Some(t50)) = (board::statics(), T50.try_take()) else {
             panic!("statics taken twice");
         };
         let budget = |variant: Variant| {
@@ -89,18 +84,11 @@ mod cycles {
             &mut frame[..],
         );
         steps("pf, N = 50", budget(Variant::ColourPf), t50, &mut frame[..]);
-        debug::exit(debug::EXIT_SUCCESS);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::exit(debug::EXIT_SUCCESS)
     }
 
     #[panic_handler]
     fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-        hprintln!("panic: {}", info);
-        debug::exit(debug::EXIT_FAILURE);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::report_panic(info)
     }
 }

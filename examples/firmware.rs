@@ -30,7 +30,7 @@ mod firmware {
     use core::fmt;
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
-    use rbtrack::cue::{self, GradientConfig, GradientCue};
+    use rbtrack::cue::{self, GradientCue};
     use rbtrack::fixed::Q16;
     use rbtrack::hist::{Histogram, Model};
     use rbtrack::image::{ImageView, Rgb565Le, Rgb8x8x8};
@@ -301,9 +301,7 @@ mod firmware {
             t,
             hist.touched().len()
         );
-        let mut cue_config = GradientConfig::new();
-        cue_config.points = config.gradient_points as usize;
-        cue_config.search_px = config.gradient_search as u32;
+        let cue_config = config.gradient();
         let Ok(cue) = GradientCue::new(&cue_config) else {
             panic!("gradient cue configuration");
         };
@@ -414,18 +412,11 @@ mod firmware {
             panic!("the stack outgrew its budget");
         }
         hprintln!("checksum {:#018x}", checksum.value());
-        debug::exit(debug::EXIT_SUCCESS);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::exit(debug::EXIT_SUCCESS)
     }
 
     #[panic_handler]
     fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-        hprintln!("panic: {}", info);
-        debug::exit(debug::EXIT_FAILURE);
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::report_panic(info)
     }
 }

@@ -28,7 +28,7 @@
 //! `Tracker::unstarted`, `start`, `new`, `reset`, `step`, `step_profiled` (with a counter
 //! that may read anything) and the getters `estimate`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
-//! `leaf_covariance` and `scale_per_row`.
+//! `size_covariance` and `scale_per_row`.
 //!
 //! The proof is the link; the program is not meant to be run. On a hosted target it is an
 //! empty program.
@@ -101,7 +101,7 @@ mod proof {
         black_box(tracker.last_scale_factor());
         black_box(tracker.pixels_visited());
         black_box(tracker.weight_recoveries());
-        black_box(tracker.leaf_covariance());
+        black_box(tracker.size_covariance());
         black_box(tracker.scale_per_row());
     }
 

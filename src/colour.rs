@@ -29,12 +29,15 @@
 //! most: `B` divisions and square roots. Windows are compared at the cost of
 //! [`Histogram::fill`] and [`Histogram::coefficient`].
 
-use crate::fixed::Q16;
-use crate::hist::{blend, sqrt_q8, Histogram, Model, PROB_ONE};
+use crate::fixed::{sqrt_q8, Q16};
+use crate::hist::{blend, Histogram, Model, PROB_FRAC_BITS, PROB_ONE};
 use crate::image::{Binning, ImageView, PixelFormat};
 use crate::window::Ellipse;
 
-/// `P(object | u)` of a colour seen neither on the target nor around it, Q0.16.
+/// `P(object | u) = 1`: the object probabilities are Q0.16, `u16::MAX` standing for 1.
+pub const OBJECT_PROB_ONE: u16 = u16::MAX;
+
+/// `P(object | u)` of a colour seen neither on the target nor around it, Q0.16 (1/2).
 pub const OBJECT_PRIOR: u16 = 1 << 15;
 
 /// How a [`ColourModel`] is laid out and weighted.
@@ -299,11 +302,10 @@ impl<const B: usize> ColourModel<B> {
 
     /// Recomputes the background-weighted models and the object probabilities.
     fn derive(&mut self) {
-        let o_floor = self
-            .settings
-            .background
-            .map_or(0, |share| share.clamp(Q16::ZERO, Q16::ONE).to_bits() as u64)
-            * (PROB_ONE as u64 >> 16);
+        // The floor's share of the ring, Q16.16, as a probability (Q0.30).
+        let floor = |share: Q16| share.clamp(Q16::ZERO, Q16::ONE).to_bits() as u64;
+        let o_floor =
+            self.settings.background.map_or(0, floor) << (PROB_FRAC_BITS - Q16::FRAC_BITS);
         let o_min = self.surroundings.iter().copied().filter(|&o| o > 0).min();
         let o_star = o_min.map(|o| (o as u64).max(o_floor));
         let scoring = match self.settings.split_halves {
@@ -316,7 +318,7 @@ impl<const B: usize> ColourModel<B> {
         for (u, p) in self.object_prob.iter_mut().enumerate() {
             let q = self.whole.q(u) as u64;
             let o = self.surroundings.get(u).copied().unwrap_or(0) as u64;
-            *p = (q * 65535)
+            *p = (q * OBJECT_PROB_ONE as u64)
                 .checked_div(q + o)
                 .map_or(OBJECT_PRIOR, |v| v as u16);
         }
@@ -334,7 +336,9 @@ fn reweight<const B: usize>(q: &[u32; B], o: &[u32; B], o_star: Option<u64>, out
     };
     let total: u64 = q.iter().zip(o.iter()).map(|(&q, &o)| weight(q, o)).sum();
     for ((s, &q), &o) in out.iter_mut().zip(q.iter()).zip(o.iter()) {
-        let w = (weight(q, o) << 30).checked_div(total).unwrap_or(0);
+        let w = (weight(q, o) << PROB_FRAC_BITS)
+            .checked_div(total)
+            .unwrap_or(0);
         *s = sqrt_q8(w.min(PROB_ONE as u64) as u32);
     }
 }

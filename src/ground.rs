@@ -40,7 +40,10 @@ const WEIGHT_LOG2: u32 = 8;
 const MIN_WEIGHT: i64 = 16 << WEIGHT_LOG2;
 
 /// Sixteenths of a pixel per Q16.16 unit shift: `px << 4` from `Q16 >> 12`.
-const SIXTEENTHS: u32 = 12;
+const SIXTEENTHS: u32 = Q16::FRAC_BITS - 4;
+
+/// Largest slope reported, px/px: [`GroundPlane::slope`] clamps to `[-4, 4]`.
+const MAX_SLOPE: u32 = 4;
 
 /// Exponentially weighted sums of rows and half-heights (see the module documentation).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -134,9 +137,9 @@ fn div_u128_u32(n: u128, d: u32) -> u128 {
 /// `min(floor(cov 2^16 / var), 2^18)` for `var > 0` (`2^18` for `var = 0`), by binary
 /// long division: the quotient has at most 18 bits.
 fn slope_q16(cov: u128, var: u128) -> u32 {
-    const LIMIT: u32 = 4 << 16;
+    const LIMIT: u32 = MAX_SLOPE << Q16::FRAC_BITS;
     // floor(cov 2^16 / var) >= 2^18 exactly when cov >= 4 var.
-    if cov / 4 >= var {
+    if cov / MAX_SLOPE as u128 >= var {
         return LIMIT;
     }
     // cov < 4 var: the integer part (at most 3) by subtraction, then 16 fraction bits.

@@ -1,4 +1,5 @@
-//! Likelihoods from cue costs, `exp(-cost)` by table, integer only.
+//! Likelihoods from cue costs: `exp(-cost)` by table, integer only, and the cost scale
+//! `1 / (2 sigma^2)` of a cue.
 //!
 //! A cue turns its measurement into a cost in Q16.16: the colour cue
 //! `(1 - rho) / (2 sigma_c^2)`, the gradient cue `(1 - g)^2 / (2 sigma_g^2)`. The factor
@@ -26,17 +27,25 @@ include!(concat!(env!("OUT_DIR"), "/exp_table.rs"));
 /// Largest cost with a non-zero likelihood, Q16.16 (16.0).
 pub const COST_MAX: Q16 = Q16::from_int(16);
 
+/// `log2` of the table's steps per unit of cost: steps of 1/64.
+const STEP_LOG2: u32 = 6;
+
+/// Fraction bits of a likelihood from [`exp_neg`]: Q0.16, `65535` standing for
+/// `exp(0) = 1`.
+pub const LIKELIHOOD_BITS: u32 = 16;
+
 /// `65535 * exp(-cost)` for `cost` in Q16.16; negative costs count as zero, costs at or
 /// above [`COST_MAX`] give 0. Result in `0..=65535` (Q0.16).
 #[inline]
 pub fn exp_neg(cost: Q16) -> u32 {
     let bits = cost.to_bits().max(0) as u32;
-    let index = (bits >> 10) as usize; // steps of 1/64
-    let frac = bits & 0x3FF;
+    let shift = Q16::FRAC_BITS - STEP_LOG2; // the fraction of a step
+    let index = (bits >> shift) as usize;
+    let frac = bits & ((1 << shift) - 1);
     match (EXP_NEG_Q16.get(index), EXP_NEG_Q16.get(index + 1)) {
         (Some(&lo), Some(&hi)) => {
             let (lo, hi) = (lo as u32, hi as u32);
-            lo - (((lo - hi) * frac + 0x200) >> 10)
+            lo - (((lo - hi) * frac + (1 << (shift - 1))) >> shift)
         }
         _ => 0,
     }

@@ -12,13 +12,17 @@
 //! third of it, so scores move smoothly with sub-cell shifts and sizes.
 
 use crate::fixed::{div_u64_u32, Q16};
-use crate::image::{Binning, ImageView, PixelFormat};
+use crate::image::{Binning, ImageView, PixelFormat, Run};
 
 /// Cells per side of the map, at most.
 pub const SIDE: usize = 64;
 
 /// Entries per row of the integral image.
 const STRIDE: usize = SIDE + 1;
+
+/// One cell, or a probability of 1, in the Q16.16 scale of cell coordinates and of the
+/// interpolation weights.
+const ONE: i64 = 1 << Q16::FRAC_BITS;
 
 /// An axis-aligned box, px, Q16.16: columns `x0..x1`, rows `y0..y1` (pixel `x` covers
 /// `[x - 1/2, x + 1/2)`).
@@ -118,17 +122,23 @@ impl ObjectMap {
         (self.left, self.top, self.cell, self.cols, self.rows) = (left, top, cell, cols, rows);
         self.cell_reciprocal = ((1u64 << 32) / cell as u64).min(u32::MAX as u64) as u32;
 
-        let (frame, stride) = (img.as_bytes(), img.stride());
+        let runs = img.runs();
         self.integral[..STRIDE].fill(0);
         for r in 0..rows {
             let y = (top + r as i32 * cell + dy) as usize;
-            let first = y * stride + (left + dx) as usize;
+            let x = (left + dx) as usize;
             let (above, here) = self.integral.split_at_mut((r + 1) * STRIDE);
             let above = &above[r * STRIDE..];
             here[0] = 0;
             let mut c = 0usize;
             let mut run = 0u32;
-            P::for_each_bin::<Bn>(frame, first, cell as usize, cols as u32, |bin| {
+            let cells = Run {
+                x0: x,
+                step: cell as usize,
+                count: cols as u32,
+            };
+            runs.for_each_bin::<Bn>(y, cells, |bin| {
+                debug_assert!((bin as usize) < B, "bin {bin} out of range");
                 run += prob.get(bin as usize).copied().unwrap_or(0) as u32;
                 c += 1;
                 if let (Some(out), Some(&up)) = (here.get_mut(c), above.get(c)) {
@@ -150,14 +160,14 @@ impl ObjectMap {
             return (0, 0);
         }
         let s = self.at(u1, v1) + self.at(u0, v0) - self.at(u0, v1) - self.at(u1, v0);
-        let area = ((u1 - u0) as u64 * (v1 - v0) as u64) >> 16;
+        let area = ((u1 - u0) as u64 * (v1 - v0) as u64) >> Q16::FRAC_BITS;
         (s.max(0) as u64, area)
     }
 
     /// A coordinate (px, Q16.16) in cells from `origin` (px), Q16.16 clamped to
     /// `[0, count]`; the pixel grid's `-1/2` offset is applied here.
     fn to_cells(&self, v: Q16, origin: i32, count: usize) -> i64 {
-        let px = v.to_bits() as i64 + (1 << 15) - ((origin as i64) << 16);
+        let px = v.to_bits() as i64 + ONE / 2 - ((origin as i64) << Q16::FRAC_BITS);
         // Left of the map is 0 cells; to the right, px / cell by the cell's reciprocal,
         // corrected once (exact for px below 2^32).
         let (px, cell) = (px.clamp(0, u32::MAX as i64) as u64, self.cell as u64);
@@ -165,23 +175,26 @@ impl ObjectMap {
         if (cells + 1) * cell <= px {
             cells += 1;
         }
-        (cells as i64).min((count as i64) << 16)
+        (cells as i64).min((count as i64) << Q16::FRAC_BITS)
     }
 
     /// The integral image at `(u, v)` (cells, Q16.16, in range), bilinearly
     /// interpolated; Q16.16 scale on the sums.
     fn at(&self, u: i64, v: i64) -> i64 {
-        let (i, j) = ((u >> 16) as usize, (v >> 16) as usize);
-        let (fu, fv) = (u & 0xFFFF, v & 0xFFFF);
+        let (i, j) = (
+            (u >> Q16::FRAC_BITS) as usize,
+            (v >> Q16::FRAC_BITS) as usize,
+        );
+        let (fu, fv) = (u & (ONE - 1), v & (ONE - 1));
+        // Rows and columns up to `SIDE`: always inside the integral image.
         let t = |r: usize, c: usize| -> i64 {
-            self.integral
-                .get(r.min(self.rows) * STRIDE + c.min(self.cols))
-                .copied()
-                .unwrap_or(0) as i64
+            let index = r.min(self.rows) * STRIDE + c.min(self.cols);
+            debug_assert!(index < self.integral.len(), "integral image entry {index}");
+            self.integral.get(index).copied().unwrap_or(0) as i64
         };
-        let top = t(j, i) * (65536 - fu) + t(j, i + 1) * fu;
-        let bottom = t(j + 1, i) * (65536 - fu) + t(j + 1, i + 1) * fu;
-        (top >> 16) * (65536 - fv) + (bottom >> 16) * fv
+        let top = t(j, i) * (ONE - fu) + t(j, i + 1) * fu;
+        let bottom = t(j + 1, i) * (ONE - fu) + t(j + 1, i + 1) * fu;
+        (top >> Q16::FRAC_BITS) * (ONE - fv) + (bottom >> Q16::FRAC_BITS) * fv
     }
 
     /// Mean object probability inside `inner` minus that in the ring between `inner` and
@@ -200,7 +213,7 @@ impl ObjectMap {
             Some(a) if a > 0 => mean(s_out.saturating_sub(s_in), a),
             _ => 0,
         };
-        Q16::from_bits((mean_in - mean_ring).clamp(-65536, 65536) as i32)
+        Q16::from_bits((mean_in - mean_ring).clamp(-ONE, ONE) as i32)
     }
 }
 

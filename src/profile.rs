@@ -1,4 +1,5 @@
-//! Per-stage cycle profile of a tracker step.
+//! Profiling: the cycle-counter hook a board supplies and the per-stage counts of a
+//! tracker step.
 //!
 //! The caller supplies the clock: DWT `CYCCNT` on a Cortex-M board, SysTick under QEMU,
 //! a monotonic clock on the host. [`CycleCounter`] is one method, with a blanket impl for

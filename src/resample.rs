@@ -50,6 +50,9 @@ pub const WEIGHT_TOTAL_LOG2: u32 = 24;
 /// Sum of the weights after [`normalise`]: `2^24` (weight 1.0).
 pub const WEIGHT_TOTAL: u32 = 1 << WEIGHT_TOTAL_LOG2;
 
+/// Fraction bits the residual scheme keeps of each residual weight (see [`residual`]).
+const RESIDUAL_FRAC_BITS: u32 = 16;
+
 /// Largest number of weights [`resample`] accepts (indices are `u16`).
 pub const MAX_PARTICLES: usize = u16::MAX as usize;
 
@@ -86,6 +89,8 @@ pub enum ResampleError {
     TooManyParticles,
     /// No weights but a non-empty output.
     NoParticles,
+    /// More than `u32::MAX` indices asked for (an output longer than that).
+    TooManyDraws,
 }
 
 impl core::fmt::Display for ResampleError {
@@ -95,6 +100,7 @@ impl core::fmt::Display for ResampleError {
                 write!(f, "more than {MAX_PARTICLES} weights to resample")
             }
             Self::NoParticles => f.write_str("no weights to resample from"),
+            Self::TooManyDraws => write!(f, "more than {} indices to draw", u32::MAX),
         }
     }
 }
@@ -205,7 +211,7 @@ pub fn effective_sample_size_at_least(weights: &[u32], threshold: Q16) -> bool {
     // floor(X / Y) >= T  <=>  X >= T Y for integers; sum <= 2^48 for 65535 weights, so
     // X = sum^2 2^16 <= 2^112 and T Y < 2^31 2^80: no overflow for any `MAX_PARTICLES`
     // weights, and a saturating product stays correct beyond.
-    let x = sum.saturating_mul(sum).saturating_mul(1 << 16);
+    let x = sum.saturating_mul(sum).saturating_mul(1 << Q16::FRAC_BITS);
     x >= (threshold.to_bits() as u128).saturating_mul(sum_sq)
 }
 
@@ -221,7 +227,10 @@ fn sums(weights: &[u32]) -> (u128, u128) {
 /// `sum^2 2^16 / sum_sq`, rounded down; exact for `sum <= 2^56` (e.g. 65535 weights of
 /// `u32`, `sum <= 2^48`), saturating beyond.
 fn ess_ratio_q16(sum: u128, sum_sq: u128) -> u128 {
-    match sum.checked_mul(sum).and_then(|s2| s2.checked_mul(1 << 16)) {
+    match sum
+        .checked_mul(sum)
+        .and_then(|s2| s2.checked_mul(1 << Q16::FRAC_BITS))
+    {
         Some(n) => n / sum_sq,
         None => u128::MAX,
     }
@@ -233,11 +242,12 @@ fn ess_ratio_q16(sum: u128, sum_sq: u128) -> u128 {
 /// - `weights`: one non-negative weight per particle, any scale; used as scratch (on
 ///   return it holds cumulative sums). At most [`MAX_PARTICLES`].
 /// - `rng`: random source.
-/// - `out`: receives the indices, each `< weights.len()`.
+/// - `out`: receives the indices, each `< weights.len()`; at most `u32::MAX` of them.
 ///
 /// # Returns
 /// Whether the weights were all zero (then the draw was uniform), or an error when there
-/// are too many weights or none for a non-empty `out` (`out` untouched).
+/// are too many weights, none for a non-empty `out`, or more than `u32::MAX` indices to
+/// draw (`out` untouched).
 pub fn resample(
     scheme: Scheme,
     weights: &mut [u32],
@@ -246,6 +256,9 @@ pub fn resample(
 ) -> Result<Normalised, ResampleError> {
     if weights.len() > MAX_PARTICLES {
         return Err(ResampleError::TooManyParticles);
+    }
+    if u32::try_from(out.len()).is_err() {
+        return Err(ResampleError::TooManyDraws);
     }
     if weights.is_empty() {
         return if out.is_empty() {
@@ -281,6 +294,7 @@ pub fn resample(
 fn cumulate(weights: &mut [u32]) {
     let mut acc = 0u32;
     for w in weights.iter_mut() {
+        debug_assert!(acc.checked_add(*w).is_some(), "cumulative weights overflow");
         acc = acc.saturating_add(*w);
         *w = acc;
     }
@@ -290,17 +304,18 @@ fn cumulate(weights: &mut [u32]) {
 /// non-decreasing; `r < cum[last]` is the callers' invariant, the clamp is defensive).
 fn search(cum: &[u32], r: u32) -> u16 {
     let j = cum.partition_point(|&c| c <= r);
+    debug_assert!(j < cum.len(), "position {r} at or past the total");
     j.min(cum.len().saturating_sub(1)) as u16
 }
 
-/// Evenly spaced positions `r_k = floor((k 2^24 + u_k) / M)` (`u_k < 2^24`), walked
-/// against `cum` in one pass. The quotient of `k 2^24` by `M` is carried from one `k` to
-/// the next with its remainder, so a position costs one 32-bit division (of `u_k`), not a
-/// 64-bit one.
+/// Evenly spaced positions `r_k = floor((k 2^24 + u_k) / M)` (`u_k < 2^24`, `M =
+/// out.len() <= u32::MAX`), walked against `cum` in one pass. The quotient of `k 2^24` by
+/// `M` is carried from one `k` to the next with its remainder, so a position costs one
+/// 32-bit division (of `u_k`), not a 64-bit one.
 fn spaced(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
-    let Ok(m) = u32::try_from(out.len()) else {
-        return spaced_wide(cum, out, offset);
-    };
+    let m = u32::try_from(out.len());
+    debug_assert!(m.is_ok(), "resample draws at most u32::MAX indices");
+    let Ok(m) = m else { return };
     if m == 0 {
         return;
     }
@@ -327,20 +342,6 @@ fn spaced(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
     }
 }
 
-/// [`spaced`] for more than `2^32` outputs, with a 64-bit division per position.
-fn spaced_wide(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
-    let m = out.len() as u64;
-    let last = cum.len().saturating_sub(1);
-    let mut j = 0usize;
-    for (k, o) in out.iter_mut().enumerate() {
-        let r = (((k as u64) << WEIGHT_TOTAL_LOG2) + offset(k) as u64) / m;
-        while j < last && cum.get(j).is_some_and(|&c| c as u64 <= r) {
-            j += 1;
-        }
-        *o = j as u16;
-    }
-}
-
 /// Residual resampling on normalised `weights` (sum `2^24`).
 fn residual(weights: &mut [u32], rng: &mut Rng, out: &mut [u16]) {
     let m = out.len() as u64;
@@ -355,7 +356,8 @@ fn residual(weights: &mut [u32], rng: &mut Rng, out: &mut [u16]) {
             *o = i as u16;
         }
         filled += copies;
-        *w = ((scaled & (WEIGHT_TOTAL as u64 - 1)) >> 8) as u32;
+        *w = ((scaled & (WEIGHT_TOTAL as u64 - 1)) >> (WEIGHT_TOTAL_LOG2 - RESIDUAL_FRAC_BITS))
+            as u32;
     }
     cumulate(weights);
     let total = weights.last().copied().unwrap_or(0);
@@ -407,6 +409,20 @@ mod tests {
         Scheme::Stratified,
         Scheme::Residual,
     ];
+
+    /// [`spaced`] by the definition, with a 64-bit division per position.
+    fn spaced_wide(cum: &[u32], out: &mut [u16], mut offset: impl FnMut(usize) -> u32) {
+        let m = out.len() as u64;
+        let last = cum.len().saturating_sub(1);
+        let mut j = 0usize;
+        for (k, o) in out.iter_mut().enumerate() {
+            let r = (((k as u64) << WEIGHT_TOTAL_LOG2) + offset(k) as u64) / m;
+            while j < last && cum.get(j).is_some_and(|&c| c as u64 <= r) {
+                j += 1;
+            }
+            *o = j as u16;
+        }
+    }
 
     fn counts(out: &[u16], n: usize) -> Vec<usize> {
         let mut c = vec![0; n];
@@ -717,6 +733,10 @@ mod tests {
         assert_eq!(
             ResampleError::NoParticles.to_string(),
             "no weights to resample from"
+        );
+        assert_eq!(
+            ResampleError::TooManyDraws.to_string(),
+            "more than 4294967295 indices to draw"
         );
     }
 

@@ -24,6 +24,18 @@ use rand_xoshiro::Xoshiro128PlusPlus;
 
 include!(concat!(env!("OUT_DIR"), "/normal_table.rs"));
 
+/// Bits of a normal draw's word that choose its bin of equal probability (`2^-8` each).
+const BIN_BITS: u32 = 8;
+
+/// Bits of a normal draw's word that place it inside its bin.
+const POSITION_BITS: u32 = u32::BITS - 1 - BIN_BITS;
+
+/// Bits of the outermost bin's second word that choose its finer bin.
+const TAIL_BIN_BITS: u32 = 8;
+
+/// Bits of the second word that place the draw inside its finer bin.
+const TAIL_POSITION_BITS: u32 = u32::BITS - TAIL_BIN_BITS;
+
 /// Deterministic pseudo-random source (Xoshiro128++).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Rng(Xoshiro128PlusPlus);
@@ -41,7 +53,7 @@ impl Rng {
 
     /// Uniform draw in `[0, 1)`, Q16.16 (raw value in `0..65536`).
     pub fn uniform(&mut self) -> Q16 {
-        Q16::from_bits((self.next_u32() >> 16) as i32)
+        Q16::from_bits((self.next_u32() >> (u32::BITS - Q16::FRAC_BITS)) as i32)
     }
 
     /// Uniform integer in `0..n` by multiply-shift (bias below `n / 2^32`); `n == 0` gives 0.
@@ -52,17 +64,16 @@ impl Rng {
     /// Standard-normal draw (mean 0, variance 1), Q16.16, |value| <= 5.33.
     pub fn normal(&mut self) -> Q16 {
         let word = self.next_u32();
-        let bin = ((word >> 23) & 0xFF) as usize;
-        let magnitude = if bin < 255 {
-            interpolate(&HALF_NORMAL_Q16, bin, word & 0x7F_FFFF, 23)
+        let last_bin = (1 << BIN_BITS) - 1;
+        let bin = ((word >> POSITION_BITS) & last_bin) as usize;
+        let magnitude = if bin < last_bin as usize {
+            let position = word & ((1 << POSITION_BITS) - 1);
+            interpolate(&HALF_NORMAL_Q16, bin, position, POSITION_BITS)
         } else {
             let fine = self.next_u32();
-            interpolate(
-                &HALF_NORMAL_TAIL_Q16,
-                (fine >> 24) as usize,
-                fine & 0xFF_FFFF,
-                24,
-            )
+            let position = fine & ((1 << TAIL_POSITION_BITS) - 1);
+            let bin = (fine >> TAIL_POSITION_BITS) as usize;
+            interpolate(&HALF_NORMAL_TAIL_Q16, bin, position, TAIL_POSITION_BITS)
         };
         if word >> 31 == 1 {
             Q16::from_bits(-magnitude)
@@ -80,6 +91,7 @@ impl Rng {
 /// `table[i] + (table[i + 1] - table[i]) * frac / 2^frac_bits`; the callers keep
 /// `i + 1 < table.len()` (0 otherwise, never a panic).
 fn interpolate(table: &[i32], i: usize, frac: u32, frac_bits: u32) -> i32 {
+    debug_assert!(i + 1 < table.len(), "bin {i} past the table's end");
     let (Some(&lo), Some(&hi)) = (table.get(i), table.get(i + 1)) else {
         return 0;
     };

@@ -46,11 +46,14 @@
 //! # Ok::<(), rbtrack::image::ImageError>(())
 //! ```
 
-use crate::fixed::{div_u64_u32, Q16};
-use crate::image::{ImageView, PixelFormat, Row};
+use crate::fixed::{div_u64_u32, isqrt32, Q16};
+use crate::image::{ImageView, PixelFormat, Row, Run};
+
+/// Fraction bits of a kernel weight: Q0.16.
+pub const WEIGHT_FRAC_BITS: u32 = 16;
 
 /// Kernel weight of the ellipse centre, 1.0 in Q0.16.
-pub const WEIGHT_ONE: u32 = 1 << 16;
+pub const WEIGHT_ONE: u32 = 1 << WEIGHT_FRAC_BITS;
 
 /// Largest cap on the pixels visited per window, px.
 pub const MAX_CAP: u32 = 65_535;
@@ -58,8 +61,11 @@ pub const MAX_CAP: u32 = 65_535;
 /// Smallest half-axis of a non-empty window, px, Q16.16 (0.5 px).
 pub const MIN_HALF_AXIS: Q16 = Q16::HALF;
 
-/// 1.0 in Q2.30, the scale of the normalised coordinates inside [`visit`].
-const ONE_Q30: i64 = 1 << 30;
+/// Fraction bits of the normalised coordinates inside [`visit`]: Q2.30.
+const Q30_FRAC_BITS: u32 = 30;
+
+/// 1.0 in Q2.30.
+const ONE_Q30: i64 = 1 << Q30_FRAC_BITS;
 
 /// An axis-aligned ellipse in image coordinates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -87,6 +93,15 @@ impl Ellipse {
     }
 }
 
+#[cfg(test)]
+impl Ellipse {
+    /// An ellipse from its centre and half-axes in floats (px), rounded to Q16.16.
+    pub(crate) fn from_f64(cx: f64, cy: f64, hx: f64, hy: f64) -> Self {
+        let q = Q16::from_f64;
+        Self::new(q(cx), q(cy), q(hx), q(hy))
+    }
+}
+
 /// The lattice step [`visit`] uses for `e` under `cap`, px (`>= 1`); 0 when it visits
 /// nothing (degenerate ellipse or `cap == 0`). `cap` is in px, lowered to [`MAX_CAP`].
 pub fn sampling_step(e: &Ellipse, cap: u32) -> u32 {
@@ -96,7 +111,7 @@ pub fn sampling_step(e: &Ellipse, cap: u32) -> u32 {
     }
     let (hx, hy) = (e.hx.to_bits() as u64, e.hy.to_bits() as u64);
     // Any step above the longer axis leaves at most one lattice point per axis.
-    let one_point = ((2 * hx.max(hy)) >> 16) + 1;
+    let one_point = ((2 * hx.max(hy)) >> Q16::FRAC_BITS) + 1;
     if cap == 1 {
         return one_point as u32;
     }
@@ -123,18 +138,26 @@ pub fn sampling_step(e: &Ellipse, cap: u32) -> u32 {
 ///
 /// Rows are visited top to bottom and pixels left to right.
 #[inline]
-pub fn visit<'a, P, F>(img: &ImageView<'a, P>, e: &Ellipse, cap: u32, f: F) -> u32
+pub fn visit<'a, P, F>(img: &ImageView<'a, P>, e: &Ellipse, cap: u32, mut f: F) -> u32
 where
     P: PixelFormat,
     F: FnMut(&Row<'a, P>, usize, u32),
 {
     let cap = cap.min(MAX_CAP);
-    visit_limited(img, e, cap, cap, f)
+    rows(img, e, cap, |mut run| {
+        let row = img.row(run.y);
+        let mut x = run.pixels.x0;
+        for _ in 0..run.pixels.count {
+            f(&row, x, run.weights.next());
+            x += run.pixels.step;
+        }
+    })
 }
 
 /// `floor(a / s)` for `s >= 1` (0 for `s <= 0`, which callers never pass).
 #[inline(always)]
 fn floor_div(a: i32, s: i32) -> i32 {
+    debug_assert!(s > 0, "a lattice step of {s}");
     if s > 0 {
         a.div_euclid(s)
     } else {
@@ -165,8 +188,8 @@ impl RowWeights {
     #[inline(always)]
     fn new(t0: i32, dt: i32, dt2: i64, e: i32, ry: u32) -> Self {
         let t = t0 as i64;
-        let w = ONE_Q30 - ry as i64 - ((t * t) >> 30);
-        let d = ((2 * t * dt as i64) >> 30) + dt2;
+        let w = ONE_Q30 - ry as i64 - ((t * t) >> Q30_FRAC_BITS);
+        let d = ((2 * t * dt as i64) >> Q30_FRAC_BITS) + dt2;
         Self {
             w: w as i32,
             d: d as i32,
@@ -178,57 +201,33 @@ impl RowWeights {
     #[inline(always)]
     #[allow(clippy::should_implement_trait)] // an infinite, infallible sequence
     pub(crate) fn next(&mut self) -> u32 {
-        let weight = (self.w.max(0) as u32) >> 14;
+        let weight = (self.w.max(0) as u32) >> (Q30_FRAC_BITS - WEIGHT_FRAC_BITS);
         self.w = self.w.wrapping_sub(self.d);
         self.d = self.d.wrapping_add(self.e);
         weight
     }
 }
 
-/// One row's part of a window: the lattice points `x0, x0 + step, ...` (`count` of them,
-/// all inside the frame and strictly inside the ellipse's chord) of row `y`, with their
-/// kernel weights.
+/// One row's part of a window: the lattice points of row `y` inside the frame and
+/// strictly inside the ellipse's chord, with their kernel weights.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RowRun {
+    /// The row, px.
     pub y: usize,
-    pub x0: usize,
-    pub step: usize,
-    pub count: u32,
+    /// The points along it.
+    pub pixels: Run,
+    /// Their kernel weights, in order.
     pub weights: RowWeights,
 }
 
-/// [`visit`] with the step chosen for `cap` but the count stopped at `limit` instead
-/// (tests pass `u32::MAX` to check that the step alone keeps the count within `cap`).
-#[inline(always)]
-fn visit_limited<'a, P, F>(
-    img: &ImageView<'a, P>,
-    e: &Ellipse,
-    cap: u32,
-    limit: u32,
-    mut f: F,
-) -> u32
-where
-    P: PixelFormat,
-    F: FnMut(&Row<'a, P>, usize, u32),
-{
-    rows(img, e, cap, limit, |mut run| {
-        let row = img.row(run.y);
-        let mut x = run.x0;
-        for _ in 0..run.count {
-            f(&row, x, run.weights.next());
-            x += run.step;
-        }
-    })
-}
-
 /// The rows of [`visit`]: calls `f` once per row that has lattice points inside the
-/// ellipse and the frame, top to bottom, with at most `limit` points in all (the step is
-/// chosen for `cap`). Returns the number of points.
+/// ellipse and the frame, top to bottom, with at most `cap` points in all (px, `<=
+/// MAX_CAP`, the caller's contract). Returns the number of points.
 ///
-/// Per row: one exact 32-bit table square root ([`crate::hist::isqrt32`]) and a few
+/// Per row: one exact 32-bit table square root ([`isqrt32`]) and a few
 /// multiplies; per window, [`sampling_step`] and two [`div_u64_u32`].
 #[inline(always)]
-pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, limit: u32, mut f: F) -> u32
+pub(crate) fn rows<P, F>(img: &ImageView<'_, P>, e: &Ellipse, cap: u32, mut f: F) -> u32
 where
     P: PixelFormat,
     F: FnMut(RowRun),
@@ -237,14 +236,15 @@ where
     if s == 0 {
         return 0;
     }
+    let frac = Q16::FRAC_BITS;
     let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
     let (hx, hy) = (e.hx.to_bits() as u32, e.hy.to_bits() as u32); // 2^15..2^31
     let (xc, yc) = (e.cx.round_int(), e.cy.round_int()); // px, |.| <= 32768
     let si = s as i32; // 1..=65536
 
     // Rows inside the ellipse and the frame, as lattice indices j (y = yc + j s).
-    let y_lo = (-((hy as i64 - cy) >> 16)).max(0) as i32; // ceil(cy - hy)
-    let y_hi = ((cy + hy as i64) >> 16).min(img.height() as i64 - 1) as i32; // floor(cy + hy)
+    let y_lo = (-((hy as i64 - cy) >> frac)).max(0) as i32; // ceil(cy - hy)
+    let y_hi = ((cy + hy as i64) >> frac).min(img.height() as i64 - 1) as i32; // floor(cy + hy)
     if y_lo > y_hi {
         return 0;
     }
@@ -259,50 +259,58 @@ where
 
     // Reciprocal half-axes, 2^62 / h (2^31..2^47): (v - c) * inv >> 32 is (v - c) / h in
     // Q2.30 for |v - c| <= h, with a relative error below 2^-31.
-    let inv_hx = div_u64_u32(1 << 62, hx) as i64;
-    let inv_hy = div_u64_u32(1 << 62, hy) as i64;
-    // The lattice step in normalised x and y, Q2.30; past one point per row (column) the
-    // step is unused, so clamping it keeps the loops in `i32`.
-    let step_q30 = |inv: i64| ((s as u64 * inv as u64) >> 16).min(i32::MAX as u64) as i32;
+    let inv_hx = div_u64_u32(1 << (Q30_FRAC_BITS + 32), hx) as i64;
+    let inv_hy = div_u64_u32(1 << (Q30_FRAC_BITS + 32), hy) as i64;
+    // The lattice step in normalised x and y, Q2.30 (`(s << 16) inv >> 32`); past one
+    // point per row (column) the step is unused, so clamping it keeps the loops in `i32`.
+    let step_q30 = |inv: i64| ((s as u64 * inv as u64) >> (32 - frac)).min(i32::MAX as u64) as i32;
     let (dt, dty) = (step_q30(inv_hx), step_q30(inv_hy));
-    let dt2 = (dt as i64 * dt as i64) >> 30;
-    let e2 = ((2 * dt as i64 * dt as i64) >> 30).min(i32::MAX as i64) as i32;
+    let dt2 = (dt as i64 * dt as i64) >> Q30_FRAC_BITS;
+    let e2 = ((2 * dt as i64 * dt as i64) >> Q30_FRAC_BITS).min(i32::MAX as i64) as i32;
     // Normalised offsets of the lattice's column 0 and of its first row, Q2.30.
-    let norm = |v: i64, c: i64, inv: i64| (((v << 16) - c) * inv) >> 32;
+    let norm = |v: i64, c: i64, inv: i64| (((v << frac) - c) * inv) >> 32;
     let tc = norm(xc as i64, cx, inv_hx).clamp(-ONE_Q30, ONE_Q30) as i32;
     let mut ty = norm((yc + j_lo * si) as i64, cy, inv_hy).clamp(-ONE_Q30, ONE_Q30) as i32;
-    // The half-axis and the centre's offset from the anchor in lattice units, Q16.
+    // The half-axis and the centre's offset from the anchor in lattice units, Q16 (`s >= 1`:
+    // the divisions cannot fail).
     let ax = hx.checked_div(s).unwrap_or(0).min(1 << 30) as u64;
-    let off = ((cx - ((xc as i64) << 16)) as i32)
+    let off = ((cx - ((xc as i64) << frac)) as i32)
         .checked_div(si)
         .unwrap_or(0); // |.| < 2^16
 
     let mut visited = 0u32;
     let mut y = (yc + j_lo * si) as usize; // y_lo..=y_hi
     let mut j = j_lo;
-    while j <= j_hi && visited < limit {
+    while j <= j_hi && visited < cap {
         // |y - cy| <= hy, so |ty| <= 1 (the additions drift by at most j units).
-        let ry = (((ty as i64 * ty as i64) >> 30) as u32).min(1 << 30); // ty^2, Q2.30
-        let root = crate::hist::isqrt32((1 << 30) - ry) as u64; // sqrt(1 - ty^2), Q0.15
-                                                                // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
-                                                                // anyway.
-        let half_chord = ((ax * root) >> 15) as i32;
+        // ty^2, Q2.30, and sqrt(1 - ty^2), Q0.15.
+        let ry = (((ty as i64 * ty as i64) >> Q30_FRAC_BITS) as u32).min(ONE_Q30 as u32);
+        let root = isqrt32(ONE_Q30 as u32 - ry) as u64;
+        // Lattice units, Q16, <= 2^30: chords longer than any frame (2^14 px) are clipped
+        // anyway.
+        let half_chord = ((ax * root) >> (Q30_FRAC_BITS / 2)) as i32;
         // Lattice points strictly inside the chord (points on the boundary weigh 0).
-        let k_lo = (-((half_chord - off - 1) >> 16)).max(k_frame_lo);
-        let k_hi = ((off + half_chord - 1) >> 16).min(k_frame_hi);
+        let k_lo = (-((half_chord - off - 1) >> frac)).max(k_frame_lo);
+        let k_hi = ((off + half_chord - 1) >> frac).min(k_frame_hi);
         if k_lo <= k_hi {
-            let count = ((k_hi - k_lo + 1) as u32).min(limit - visited);
+            // The step keeps the window within its cap (see the module docs): the stop at
+            // `cap` is a safety belt that never acts.
+            let points = (k_hi - k_lo + 1) as u32; // <= width
+            debug_assert!(visited + points <= cap, "the lattice step exceeded the cap");
+            let count = points.min(cap - visited);
             visited += count;
-            let x0 = xc + k_lo * si; // 0..width, inside the chord
-                                     // A point inside the chord has |t| < 1. If it is not the anchor's column
-                                     // (k != 0), the step is below 2 (unclamped), so neither k dt nor the sum
-                                     // overflows; for k = 0 the product is 0.
+            // The first point, inside the frame and the chord. A point inside the chord has
+            // |t| < 1. If it is not the anchor's column (k != 0), the step is below 2
+            // (unclamped), so neither k dt nor the sum overflows; for k = 0 the product is 0.
+            let x0 = xc + k_lo * si;
             let t0 = tc.wrapping_add(k_lo.wrapping_mul(dt));
             f(RowRun {
                 y,
-                x0: x0 as usize,
-                step: s as usize,
-                count,
+                pixels: Run {
+                    x0: x0 as usize,
+                    step: s as usize,
+                    count,
+                },
                 weights: RowWeights::new(t0, dt, dt2, e2, ry),
             });
         }
@@ -320,14 +328,6 @@ mod tests {
     use std::vec;
     use std::vec::Vec;
 
-    fn q(v: f64) -> Q16 {
-        Q16::from_f64(v)
-    }
-
-    fn ellipse(cx: f64, cy: f64, hx: f64, hy: f64) -> Ellipse {
-        Ellipse::new(q(cx), q(cy), q(hx), q(hy))
-    }
-
     fn collect<P: PixelFormat>(
         img: &ImageView<'_, P>,
         e: &Ellipse,
@@ -343,7 +343,7 @@ mod tests {
     fn weights_match_the_kernel() {
         let buf = vec![0u8; 64 * 48];
         let img = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
-        let e = ellipse(30.3, 20.7, 12.4, 7.9);
+        let e = Ellipse::from_f64(30.3, 20.7, 12.4, 7.9);
         let px = collect(&img, &e, MAX_CAP);
         let (cx, cy, hx, hy) = (e.cx.to_f64(), e.cy.to_f64(), e.hx.to_f64(), e.hy.to_f64());
         let mut expected = 0;
@@ -383,7 +383,7 @@ mod tests {
             // half-width (at most two points per row).
             let hx = 0.5 + [3.0, 30.0, 340.0, 2.0][i % 4] * rng.uniform().to_f64();
             let hy = 0.5 + [3.0, 40.0, 2.0, 40.0][i % 4] * rng.uniform().to_f64();
-            let e = ellipse(
+            let e = Ellipse::from_f64(
                 350.0 + 10.0 * rng.uniform().to_f64(),
                 45.0 + 4.0 * rng.uniform().to_f64(),
                 hx,
@@ -405,24 +405,27 @@ mod tests {
     fn centre_pixel_of_a_tiny_window() {
         let buf = [7u8; 9];
         let img = ImageView::<Gray8>::new(&buf, 3, 3, 3).unwrap();
-        let px = collect(&img, &ellipse(1.0, 1.0, 0.5, 0.5), 100);
+        let px = collect(&img, &Ellipse::from_f64(1.0, 1.0, 0.5, 0.5), 100);
         assert_eq!(px, vec![(1, 1, WEIGHT_ONE)]);
         // Below half a pixel, or zero, or negative: nothing.
         for (hx, hy) in [(0.49, 3.0), (3.0, 0.0), (-2.0, 2.0), (0.0, 0.0)] {
-            assert!(collect(&img, &ellipse(1.0, 1.0, hx, hy), 100).is_empty());
+            assert!(collect(&img, &Ellipse::from_f64(1.0, 1.0, hx, hy), 100).is_empty());
         }
-        assert!(collect(&img, &ellipse(1.0, 1.0, 2.0, 2.0), 0).is_empty());
+        assert!(collect(&img, &Ellipse::from_f64(1.0, 1.0, 2.0, 2.0), 0).is_empty());
     }
 
     #[test]
     fn one_pixel_frame() {
         let img = ImageView::<Gray8>::new(&[9], 1, 1, 1).unwrap();
-        assert_eq!(collect(&img, &ellipse(0.0, 0.0, 4.0, 4.0), 10).len(), 1);
         assert_eq!(
-            collect(&img, &ellipse(0.2, -0.3, 30_000.0, 30_000.0), 1).len(),
+            collect(&img, &Ellipse::from_f64(0.0, 0.0, 4.0, 4.0), 10).len(),
             1
         );
-        assert!(collect(&img, &ellipse(3.0, 0.0, 2.0, 2.0), 10).is_empty());
+        assert_eq!(
+            collect(&img, &Ellipse::from_f64(0.2, -0.3, 30_000.0, 30_000.0), 1).len(),
+            1
+        );
+        assert!(collect(&img, &Ellipse::from_f64(3.0, 0.0, 2.0, 2.0), 10).is_empty());
     }
 
     #[test]
@@ -430,12 +433,12 @@ mod tests {
         let buf = vec![0u8; 40 * 30 * 3];
         let img = ImageView::<Rgb888>::new(&buf, 40, 30, 40).unwrap();
         for e in [
-            ellipse(-20.0, 15.0, 10.0, 10.0),
-            ellipse(60.0, 15.0, 10.0, 10.0),
-            ellipse(20.0, -20.0, 10.0, 10.0),
-            ellipse(20.0, 50.0, 10.0, 10.0),
-            ellipse(-32_768.0, -32_768.0, 1000.0, 1000.0),
-            ellipse(32_767.0, 32_767.0, 32_767.0, 0.5),
+            Ellipse::from_f64(-20.0, 15.0, 10.0, 10.0),
+            Ellipse::from_f64(60.0, 15.0, 10.0, 10.0),
+            Ellipse::from_f64(20.0, -20.0, 10.0, 10.0),
+            Ellipse::from_f64(20.0, 50.0, 10.0, 10.0),
+            Ellipse::from_f64(-32_768.0, -32_768.0, 1000.0, 1000.0),
+            Ellipse::from_f64(32_767.0, 32_767.0, 32_767.0, 0.5),
         ] {
             assert!(collect(&img, &e, 1000).is_empty(), "{e:?}");
         }
@@ -454,7 +457,7 @@ mod tests {
             let hx = rng.below(60) as f64 + rng.uniform().to_f64();
             let hy = rng.below(60) as f64 + rng.uniform().to_f64();
             let cap = rng.below(400);
-            let e = ellipse(cx, cy, hx, hy);
+            let e = Ellipse::from_f64(cx, cy, hx, hy);
             let mut n = 0;
             let visited = visit(&img, &e, cap, |row, x, wt| {
                 assert!(x < w && row.y() < h && wt <= WEIGHT_ONE);
@@ -487,8 +490,9 @@ mod tests {
                 2 => 1 + rng.below(4096),
                 _ => MAX_CAP - rng.below(1000),
             };
-            let e = ellipse(cx, cy, hx, hy);
-            let n = visit_limited(&img, &e, cap, u32::MAX, |_, _, _| {});
+            let e = Ellipse::from_f64(cx, cy, hx, hy);
+            // `rows` also asserts that its stop at `cap` never acts.
+            let n = rows(&img, &e, cap, |_| {});
             assert!(
                 n <= cap,
                 "{e:?} cap {cap}: {n} pixels, step {}",
@@ -505,14 +509,17 @@ mod tests {
 
     #[test]
     fn step_grows_with_the_window() {
-        let small = ellipse(0.0, 0.0, 5.0, 5.0);
+        let small = Ellipse::from_f64(0.0, 0.0, 5.0, 5.0);
         assert_eq!(sampling_step(&small, 1000), 1);
-        let big = ellipse(0.0, 0.0, 200.0, 100.0);
+        let big = Ellipse::from_f64(0.0, 0.0, 200.0, 100.0);
         let s = sampling_step(&big, 1000);
         assert!((8..=10).contains(&s), "{s}");
         assert_eq!(sampling_step(&big, 0), 0);
-        assert_eq!(sampling_step(&ellipse(0.0, 0.0, 0.25, 9.0), 10), 0);
-        let huge = ellipse(0.0, 0.0, 32_767.9, 32_767.9);
+        assert_eq!(
+            sampling_step(&Ellipse::from_f64(0.0, 0.0, 0.25, 9.0), 10),
+            0
+        );
+        let huge = Ellipse::from_f64(0.0, 0.0, 32_767.9, 32_767.9);
         assert_eq!(sampling_step(&huge, 1), 65_536);
         assert!(sampling_step(&huge, u32::MAX) >= 228);
     }
@@ -521,7 +528,7 @@ mod tests {
     fn symmetric_window_is_symmetric() {
         let buf = vec![0u8; 21 * 21];
         let img = ImageView::<Gray8>::new(&buf, 21, 21, 21).unwrap();
-        let px = collect(&img, &ellipse(10.0, 10.0, 6.5, 4.25), 10_000);
+        let px = collect(&img, &Ellipse::from_f64(10.0, 10.0, 6.5, 4.25), 10_000);
         for &(x, y, w) in &px {
             let mirror = px.iter().find(|p| p.0 == 20 - x && p.1 == 20 - y).unwrap();
             assert!((mirror.2 as i64 - w as i64).abs() <= 2, "{x},{y}");

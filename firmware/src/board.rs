@@ -1,6 +1,7 @@
 //! Cortex-M board support for the example firmware: cycle and instruction counters for
 //! [`rbtrack::profile::CycleCounter`], the SysTick calibration, the static frame buffer,
-//! the stack high-water mark and the no-panic proof's panic handler ([`unlinkable`]).
+//! the stack high-water mark, the examples' exit and panic report ([`exit`],
+//! [`report_panic`]) and the no-panic proof's panic handler ([`unlinkable`]).
 //!
 //! # Counting
 //! On a real Cortex-M4/M7 the DWT cycle counter `CYCCNT` counts core clock cycles:
@@ -13,6 +14,7 @@
 
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{DCB, DWT, SYST};
+use cortex_m_semihosting::{debug, hprintln};
 use rbtrack::profile::CycleCounter;
 
 use crate::run::FirmwareTracker;
@@ -165,6 +167,23 @@ pub fn stack_use() -> StackUse {
         size: (top - bottom) as u32,
         used: (top - addr) as u32,
     }
+}
+
+/// Ends the program through semihosting with `status` ([`debug::EXIT_SUCCESS`] or
+/// [`debug::EXIT_FAILURE`]: QEMU exits with 0 or 1), then, where nothing ends it (a board
+/// without a debugger), sleeps.
+pub fn exit(status: debug::ExitStatus) -> ! {
+    debug::exit(status);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// The examples' panic handler: prints the panic through semihosting and exits with
+/// failure.
+pub fn report_panic(info: &core::panic::PanicInfo<'_>) -> ! {
+    hprintln!("panic: {}", info);
+    exit(debug::EXIT_FAILURE)
 }
 
 /// Never returns, and never links: it calls `rbtrack_panic_path_is_reachable`, a function

@@ -4,8 +4,8 @@
 //! - [`run`]: the trackers' configuration, the run over the scene, the checksum of the
 //!   estimates and the tightest pixel-to-bin loop (the pixel-visit bound's unit cost).
 //! - `board` (Cortex-M only): the SysTick and DWT counters, the SysTick calibration, the
-//!   static frame buffer, the stack high-water mark and the no-panic proof's panic
-//!   handler.
+//!   static frame buffer, the stack high-water mark, the examples' exit and panic report,
+//!   and the no-panic proof's panic handler.
 //!
 //! `scene` and `run` build on any target: the host test `host-tests/tests/firmware.rs`
 //! runs them on x86 and must print the checksum the firmware prints in QEMU.

@@ -15,6 +15,7 @@
 //! - Camera noise: ±6 levels per channel, hashed from the pixel, the frame and the seed.
 
 use rbtrack::fixed::Q16;
+use rbtrack::image::rgb888_to_rgb565;
 use rbtrack::window::Ellipse;
 
 /// Frame width, px.
@@ -149,9 +150,8 @@ pub fn render(seed: u32, frame: usize, buf: &mut [u8]) {
             for (k, c) in rgb.iter_mut().enumerate() {
                 *c = (*c + spread(noise >> (8 * k), NOISE)).clamp(0, 255);
             }
-            let v =
-                ((rgb[0] as u16 >> 3) << 11) | ((rgb[1] as u16 >> 2) << 5) | (rgb[2] as u16 >> 3);
-            px.copy_from_slice(&v.to_le_bytes());
+            let [r, g, b] = rgb.map(|c| c as u8);
+            px.copy_from_slice(&rgb888_to_rgb565(r, g, b).to_le_bytes());
         }
     }
 }

@@ -1,4 +1,5 @@
-//! Histograms and models: `Histogram::fill`, `accumulate`, `add`, `clear`,
+//! Histograms and models: `Histogram::fill`, `add` (one by one, or every pixel of a
+//! window as `window::visit` gives them), `clear`,
 //! `bhattacharyya`, `probability`, `Model::set` and `Model::update`, on frames of any
 //! size, stride, pixel format and content, windows anywhere and any cap.
 //!
@@ -10,10 +11,10 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use rbtrack::fixed::Q16;
-use rbtrack::hist::{sqrt_q8, Histogram, Model, PROB_ONE};
+use rbtrack::fixed::{sqrt_q8, Q16};
+use rbtrack::hist::{Histogram, Model, PROB_ONE};
 use rbtrack::image::{Binning, ImageView, Luma64, PixelFormat, Rgb8x8x8, Yuv8x8x4};
-use rbtrack::window::MAX_CAP;
+use rbtrack::window::{visit, MAX_CAP};
 use rbtrack_fuzz::{with_format, EllipseSpec, Format, FrameSpec, Q};
 
 #[derive(Arbitrary, Debug, Clone, Copy)]
@@ -95,7 +96,8 @@ fn run<Bn: Binning, const B: usize, P: PixelFormat>(input: &Input) {
                 assert!(n <= (*cap).min(MAX_CAP));
             }
             Op::Accumulate(e, cap) => {
-                let n = h.accumulate::<Bn, P>(&img, &e.get(img.width(), img.height()), *cap);
+                let e = e.get(img.width(), img.height());
+                let n = visit(&img, &e, *cap, |row, x, w| h.add(row.bin::<Bn>(x), w));
                 assert!(n <= (*cap).min(MAX_CAP));
             }
             Op::Add(bin, w) => h.add(*bin, *w),

@@ -78,62 +78,45 @@ fn run<Bn: Binning, const N: usize, const B: usize, P: PixelFormat>(input: &Inpu
         }
     };
     for op in input.ops.iter().take(MAX_OPS) {
-        match op {
-            Op::Step(spec) => {
-                let built = spec
-                    .as_ref()
-                    .map(|s| s.build(input.format.bytes_per_pixel()));
-                let view = match &built {
-                    Some(f) => ImageView::<P>::new(&f.buf, f.width, f.height, f.stride),
-                    None => Ok(frame),
-                };
-                if let Ok(view) = view {
-                    let e = tracker.step(&view);
-                    assert_eq!(e, tracker.estimate());
-                    check_estimate(
-                        &e,
-                        &config,
-                        N,
-                        tracker.pixels_visited(),
-                        view.width(),
-                        view.height(),
-                    );
-                }
-            }
+        // A step or reset on a new frame (or the first one again); a profiled step on the
+        // first frame.
+        let (spec, reset) = match op {
+            Op::Step(spec) => (spec, None),
+            Op::Reset(spec, ellipse) => (spec, Some(ellipse)),
             Op::Profiled(start) => {
                 let (e, _cycles) = tracker.step_profiled(&frame, Wild(*start));
-                check_estimate(
-                    &e,
-                    &config,
-                    N,
-                    tracker.pixels_visited(),
-                    frame.width(),
-                    frame.height(),
-                );
+                let pixels = tracker.pixels_visited();
+                check_estimate(&e, &config, N, pixels, frame.width(), frame.height());
+                continue;
             }
-            Op::Reset(spec, ellipse) => {
-                let built = spec
-                    .as_ref()
-                    .map(|s| s.build(input.format.bytes_per_pixel()));
-                let view = match &built {
-                    Some(f) => ImageView::<P>::new(&f.buf, f.width, f.height, f.stride),
-                    None => Ok(frame),
-                };
-                let Ok(view) = view else { continue };
-                let e = ellipse.get(view.width(), view.height());
-                let ok = init_is_valid(&e, config.min_half_axis, view.width(), view.height());
-                let before = tracker.clone();
-                match tracker.reset(&view, e) {
-                    Ok(()) => {
-                        assert!(ok, "reset accepted {e:?}");
-                        assert_eq!(tracker.estimate().ellipse, e);
-                    }
-                    Err(err) => {
-                        assert!(!ok, "reset rejected ({err}) {e:?}");
-                        assert_eq!(tracker.estimate(), before.estimate());
-                        assert_eq!(tracker.particles(), before.particles());
-                    }
-                }
+        };
+        let built = spec
+            .as_ref()
+            .map(|s| s.build(input.format.bytes_per_pixel()));
+        let view = match &built {
+            Some(f) => ImageView::<P>::new(&f.buf, f.width, f.height, f.stride),
+            None => Ok(frame),
+        };
+        let Ok(view) = view else { continue };
+        let Some(ellipse) = reset else {
+            let e = tracker.step(&view);
+            assert_eq!(e, tracker.estimate());
+            let pixels = tracker.pixels_visited();
+            check_estimate(&e, &config, N, pixels, view.width(), view.height());
+            continue;
+        };
+        let e = ellipse.get(view.width(), view.height());
+        let ok = init_is_valid(&e, config.min_half_axis, view.width(), view.height());
+        let before = tracker.clone();
+        match tracker.reset(&view, e) {
+            Ok(()) => {
+                assert!(ok, "reset accepted {e:?}");
+                assert_eq!(tracker.estimate().ellipse, e);
+            }
+            Err(err) => {
+                assert!(!ok, "reset rejected ({err}) {e:?}");
+                assert_eq!(tracker.estimate(), before.estimate());
+                assert_eq!(tracker.particles(), before.particles());
             }
         }
     }

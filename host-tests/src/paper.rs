@@ -51,7 +51,7 @@
 //! the mean and the (sample) standard deviation.
 
 use rbtrack::fixed::Q16;
-use rbtrack::kalman::{self, predict_mean, BlockNoise, SharedCovariance, Sym2};
+use rbtrack::kalman::{predict_mean, BlockNoise, SharedCovariance, Size, Sym2};
 use rbtrack::likelihood::exp_neg;
 use rbtrack::resample::{resample, Scheme};
 use rbtrack::rng::Rng;
@@ -315,13 +315,13 @@ fn reorder<P: Copy>(items: &mut Vec<P>, scratch: &mut Vec<P>, indices: &[u16]) {
     core::mem::swap(items, scratch);
 }
 
-/// One RBPF particle: regime, root `u_t`, and the leaf mean `(y, v, x, u)` in the core
-/// Kalman layout `(pos_y, rate_y, pos_x, rate_x)`.
+/// One RBPF particle: regime, root `u_t`, and the leaf mean `(x, u, y, v)` in the core
+/// Kalman layout (`hx, dhx, hy, dhy`: position and rate of each axis).
 #[derive(Debug, Clone, Copy)]
 struct RbParticle {
     regime: u8,
     u: Q16,
-    leaf: kalman::Mean,
+    leaf: Size,
 }
 
 /// Runs the RBPF with `particles` particles and dependency `s_model` on `path`.
@@ -337,10 +337,10 @@ pub fn run_rbpf(
     let mut rng = Rng::new(filter_seed(seed, 0x5262_7066));
     let var_z = m.sz * m.sz;
     let noise = BlockNoise {
-        q_y: Sym2::diagonal(m.ss * m.ss, Q16::ZERO),
         q_x: Sym2::diagonal(m.ss * m.ss, Q16::ZERO),
-        r_y: var_z,
+        q_y: Sym2::diagonal(m.ss * m.ss, Q16::ZERO),
         r_x: var_z,
+        r_y: var_z,
     };
     let p0 = Sym2::diagonal(var_z, Q16::ZERO);
     let Ok(mut shared) = SharedCovariance::new(p0, p0, noise) else {
@@ -355,7 +355,12 @@ pub fn run_rbpf(
             RbParticle {
                 regime: rng.below(3) as u8,
                 u,
-                leaf: [zy0, s * u, zx0, u],
+                leaf: Size {
+                    hx: zx0,
+                    dhx: u,
+                    hy: zy0,
+                    dhy: s * u,
+                },
             }
         })
         .collect();
@@ -372,23 +377,23 @@ pub fn run_rbpf(
         let sv = gain.innovation_cov();
         for (p, h) in ps.iter_mut().zip(half_d2.iter_mut()) {
             predict_mean(&mut p.leaf, m.t);
-            let [y_pred, _, x_pred, _] = p.leaf;
-            *h = half_mahalanobis(z[1] - y_pred, sv.a00) + half_mahalanobis(z[0] - x_pred, sv.a11);
+            let (x_pred, y_pred) = (p.leaf.hx, p.leaf.hy);
+            *h = half_mahalanobis(z[1] - y_pred, sv.a11) + half_mahalanobis(z[0] - x_pred, sv.a00);
             // Kalman update with Z_t (the same gain for all; commutes with resampling).
-            gain.update_mean(&mut p.leaf, [z[1], z[0]]);
+            gain.update_mean(&mut p.leaf, z[0], z[1]);
             let u_prev = p.u;
             p.regime = Model::next_regime(p.regime, &mut rng);
             p.u = u_prev + rng.gaussian(m.sd(p.regime));
-            p.leaf[1] = s * u_prev; // v_t = S u_{t-1}
-            p.leaf[3] = p.u; // x moves by u_t next step
+            p.leaf.dhy = s * u_prev; // v_t = S u_{t-1}
+            p.leaf.dhx = p.u; // x moves by u_t next step
         }
         shared.update_cov();
         weigh(&mut weights, &half_d2);
         let est = [
-            weighted_mean(&weights, ps.iter().map(|p| p.leaf[2])),
+            weighted_mean(&weights, ps.iter().map(|p| p.leaf.hx)),
             weighted_mean(&weights, ps.iter().map(|p| p.u)),
-            weighted_mean(&weights, ps.iter().map(|p| p.leaf[0])),
-            weighted_mean(&weights, ps.iter().map(|p| p.leaf[1])),
+            weighted_mean(&weights, ps.iter().map(|p| p.leaf.hy)),
+            weighted_mean(&weights, ps.iter().map(|p| p.leaf.dhy)),
         ];
         errors.push(path, t, est);
         if resample(m.scheme, &mut weights, &mut rng, &mut indices).is_ok() {

@@ -6,7 +6,7 @@
 //! and YUV, RGB565 widening by bit replication); RGB888 to RGB565 truncates each channel
 //! ([`rgb565`]).
 
-use rbtrack::image::{luma_of_rgb, rgb565_to_rgb888, rgb_to_yuv, yuv_to_rgb};
+use rbtrack::image::{luma_of_rgb, rgb565_to_rgb888, rgb888_to_rgb565, rgb_to_yuv, yuv_to_rgb};
 use std::fmt;
 
 /// A pixel layout of the core (`rbtrack::image`): the formats a camera delivers.
@@ -203,11 +203,11 @@ impl Frame {
                 .collect(),
             Format::Rgb565Le => rgb
                 .chunks_exact(3)
-                .flat_map(|p| rgb565(p[0], p[1], p[2]).to_le_bytes())
+                .flat_map(|p| rgb888_to_rgb565(p[0], p[1], p[2]).to_le_bytes())
                 .collect(),
             Format::Rgb565Be => rgb
                 .chunks_exact(3)
-                .flat_map(|p| rgb565(p[0], p[1], p[2]).to_be_bytes())
+                .flat_map(|p| rgb888_to_rgb565(p[0], p[1], p[2]).to_be_bytes())
                 .collect(),
             Format::Yuyv => rgb
                 .chunks_exact(6)
@@ -223,11 +223,6 @@ impl Frame {
     }
 }
 
-/// An 8-bit RGB pixel as an RGB565 word (`rrrrrggg gggbbbbb`), each channel truncated.
-pub fn rgb565(r: u8, g: u8, b: u8) -> u16 {
-    ((r as u16 >> 3) << 11) | ((g as u16 >> 2) << 5) | (b as u16 >> 3)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -238,10 +233,10 @@ mod tests {
 
     #[test]
     fn rgb565_packs_by_truncation() {
-        assert_eq!(rgb565(255, 0, 0), 0xF800);
-        assert_eq!(rgb565(0, 255, 0), 0x07E0);
-        assert_eq!(rgb565(0, 0, 255), 0x001F);
-        assert_eq!(rgb565(0x84, 0x82, 0x08), 0x8401);
+        assert_eq!(rgb888_to_rgb565(255, 0, 0), 0xF800);
+        assert_eq!(rgb888_to_rgb565(0, 255, 0), 0x07E0);
+        assert_eq!(rgb888_to_rgb565(0, 0, 255), 0x001F);
+        assert_eq!(rgb888_to_rgb565(0x84, 0x82, 0x08), 0x8401);
         let f = frame(Format::Rgb888, 2, 1, &[255, 0, 0, 0x84, 0x82, 0x08]);
         let le = f.clone().convert(Format::Rgb565Le).unwrap();
         assert_eq!(le.bytes, [0x00, 0xF8, 0x01, 0x84]);

@@ -14,7 +14,7 @@
 //!   `sigma = position_noise + relative_noise (Hx + Hy) / 2`, centre clamped to the frame;
 //!   with `noise_gain`, both noises times `clamp(gain s / sigma(estimate), floor, 1)`, `s`
 //!   the innovation mean (`s += ((|dx| + |dy|) / 2 - s) / 8` after each tracking step);
-//! - colour PF size: both half-axes times `1 + sigma n`; RBPF leaf (eq. 7):
+//! - colour PF size: both half-axes times `1 + sigma n`; RBPF size (eq. 7):
 //!   `Hy^- = Hy + dHy + k dy`, `Hx^- = Hx Hy^- / Hy`, rates `+ sigma n`; half-axes clamped
 //!   to `[min_half_axis, max(width, height) - 1]`;
 //! - histograms: kernel `1 - d^2` with `d` from the f64 ellipse, over the pixel set the
@@ -28,7 +28,7 @@
 //!   cut-off, so that "all weights vanished" means the same in both);
 //! - weights, their normalisation and the uniform recovery, the effective sample size;
 //! - the shared Kalman covariance (`P^- = A P A^T + Q`, `K = P H^T / S`, `P -= K H P`) and
-//!   the leaf mean update; the five-scale size measurement;
+//!   the size mean update; the five-scale size measurement;
 //! - read-out (mean, best, robust mean), confidence, status, model adaptation
 //!   `q <- (1 - a) q + a p`, and redetection while not `Tracking`.
 //!
@@ -64,12 +64,12 @@
 //! 5e-5) cannot be that close. The RBPF's size measurement is a second switch: the arg-max of five likelihoods
 //! that are often within a few per cent of each other, and the gradient cue is piecewise
 //! constant in the ellipse (search samples round to pixels), so a 0.01 px difference in
-//! the mean ellipse can reorder two scales; a different scale moves every leaf by about
+//! the mean ellipse can reorder two scales; a different scale moves every size by about
 //! `K * scale_step * H`, roughly 1 px. Following the core's choices removes this chaos and
 //! leaves what the comparison is for: the arithmetic of propagation, cues, weights, Kalman
 //! update and read-out.
 
-use rbtrack::cue::{gradient, GradientConfig, GradientCue};
+use rbtrack::cue::{gradient, GradientCue};
 use rbtrack::fixed::Q16;
 use rbtrack::image::{Binning, ImageView, PixelFormat};
 use rbtrack::likelihood::COST_MAX;
@@ -125,8 +125,21 @@ pub struct RefParticle {
     pub vx: f64,
     /// Vertical velocity, px/frame.
     pub vy: f64,
-    /// `(Hy, dHy, Hx, dHx)`: half-axes, px, and their rates, px/frame.
-    pub leaf: [f64; 4],
+    /// Half-axes, px, and their rates, px/frame.
+    pub size: RefSize,
+}
+
+/// A particle's size in f64, laid out as `rbtrack::kalman::Size`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RefSize {
+    /// Horizontal half-axis, px.
+    pub hx: f64,
+    /// Its rate, px/frame.
+    pub dhx: f64,
+    /// Vertical half-axis, px.
+    pub hy: f64,
+    /// Its rate, px/frame.
+    pub dhy: f64,
 }
 
 impl RefParticle {
@@ -137,7 +150,11 @@ impl RefParticle {
             y: e.cy,
             vx: 0.0,
             vy: 0.0,
-            leaf: [e.hy, 0.0, e.hx, 0.0],
+            size: RefSize {
+                hx: e.hx,
+                hy: e.hy,
+                ..RefSize::default()
+            },
         }
     }
 
@@ -146,8 +163,8 @@ impl RefParticle {
         RefEllipse {
             cx: self.x,
             cy: self.y,
-            hx: self.leaf[2],
-            hy: self.leaf[0],
+            hx: self.size.hx,
+            hy: self.size.hy,
         }
     }
 }
@@ -225,21 +242,21 @@ impl Bounds {
         }
     }
 
-    /// `(Hy, Hx)` into range keeping their ratio (the core's `Bounds::halves`).
-    fn halves(&self, hy: f64, hx: f64) -> (f64, f64) {
-        let small = hy.min(hx);
-        let (hy, hx) = if small <= 0.0 {
-            (hy.max(self.min_half), hx.max(self.min_half))
+    /// `(hx, hy)` into range keeping their ratio (the core's `Bounds::halves`).
+    fn halves(&self, hx: f64, hy: f64) -> (f64, f64) {
+        let small = hx.min(hy);
+        let (hx, hy) = if small <= 0.0 {
+            (hx.max(self.min_half), hy.max(self.min_half))
         } else if small < self.min_half {
-            (hy * self.min_half / small, hx * self.min_half / small)
+            (hx * self.min_half / small, hy * self.min_half / small)
         } else {
-            (hy, hx)
+            (hx, hy)
         };
-        (hy.min(self.max_half), hx.min(self.max_half))
+        (hx.min(self.max_half), hy.min(self.max_half))
     }
 }
 
-/// Covariance `[[p00, p01], [p01, p11]]` of one (half-axis, rate) block of the leaf.
+/// Covariance `[[p00, p01], [p01, p11]]` of one (half-axis, rate) block of the size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Block {
     p00: f64,
@@ -302,7 +319,7 @@ pub struct ReferenceTracker<Bn: Binning> {
     weights: Vec<f64>,
     /// Target model `q_u`, sums to 1.
     model: Vec<f64>,
-    /// Shared leaf covariance: `(Hy, dHy)` and `(Hx, dHx)` blocks.
+    /// Shared size covariance: `(Hx, dHx)` and `(Hy, dHy)` blocks.
     cov: [Block; 2],
     estimate: RefEstimate,
     last_confident: RefEllipse,
@@ -355,10 +372,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         if n == 0 || n > rbtrack::resample::MAX_PARTICLES {
             return Err(ConfigError::ParticleCount);
         }
-        let mut gradient = GradientConfig::new();
-        gradient.points = config.gradient_points as usize;
-        gradient.search_px = config.gradient_search as u32;
-        let cue = GradientCue::new(&gradient).map_err(|_| ConfigError::OutOfRange("gradient"))?;
+        let cue = GradientCue::new(&config.gradient())?;
         let bounds = bounds(&config, frame);
         let init = RefEllipse::from_q16(init);
         let inside = |v: f64, max: f64| (0.0..=max).contains(&v);
@@ -511,10 +525,10 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
                 Variant::ColourPf => self.scale_randomly(&mut p, bounds),
                 Variant::Rbpf => {
                     if searching {
-                        (p.leaf[1], p.leaf[3]) = (0.0, 0.0);
+                        (p.size.dhx, p.size.dhy) = (0.0, 0.0);
                     }
                     let dy = p.y - y_before;
-                    self.predict_leaf(&mut p, dy, searching, bounds)
+                    self.predict_size(&mut p, dy, searching, bounds)
                 }
             }
             self.particles[i] = p;
@@ -530,10 +544,10 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         self.rng.normal().to_f64() * sigma
     }
 
-    /// Unscaled position noise of a particle with half-axes `hy`, `hx`, px.
-    fn nominal_noise(&self, hy: f64, hx: f64) -> f64 {
+    /// Unscaled position noise of a particle with half-axes `hx`, `hy`, px.
+    fn nominal_noise(&self, hx: f64, hy: f64) -> f64 {
         let c = &self.config;
-        c.position_noise.to_f64() + c.relative_position_noise.to_f64() * (hy + hx) / 2.0
+        c.position_noise.to_f64() + c.relative_position_noise.to_f64() * (hx + hy) / 2.0
     }
 
     /// Factor on both motion noises this frame (`noise_gain`).
@@ -542,7 +556,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         match self.motion_spread {
             Some(s) if gain > 0.0 && self.estimate.status == Status::Tracking => {
                 let e = &self.estimate.ellipse;
-                (gain * s / self.nominal_noise(e.hy, e.hx))
+                (gain * s / self.nominal_noise(e.hx, e.hy))
                     .clamp(self.config.noise_floor.to_f64(), 1.0)
             }
             _ => 1.0,
@@ -553,7 +567,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
     fn drift(&mut self, p: &mut RefParticle, f: f64, bounds: &Bounds) {
         let c = &self.config;
         let (keep, sigma_v) = (c.velocity_keep.to_f64(), f * c.velocity_noise.to_f64());
-        let sigma = f * self.nominal_noise(p.leaf[0], p.leaf[2]);
+        let sigma = f * self.nominal_noise(p.size.hx, p.size.hy);
         let vmax = bounds.max_speed;
         p.vx = (keep * p.vx + self.gaussian(sigma_v)).clamp(-vmax, vmax);
         p.vy = (keep * p.vy + self.gaussian(sigma_v)).clamp(-vmax, vmax);
@@ -563,15 +577,15 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
 
     fn scale_randomly(&mut self, p: &mut RefParticle, bounds: &Bounds) {
         let factor = 1.0 + self.gaussian(self.config.scale_noise.to_f64());
-        (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0] * factor, p.leaf[2] * factor);
+        (p.size.hx, p.size.hy) = bounds.halves(p.size.hx * factor, p.size.hy * factor);
     }
 
     /// Eq. 7: the half-height follows the vertical motion, the aspect ratio is kept; no
     /// rate noise while searching.
-    fn predict_leaf(&mut self, p: &mut RefParticle, dy: f64, searching: bool, bounds: &Bounds) {
-        let [hy, dhy, hx, dhx] = p.leaf;
+    fn predict_size(&mut self, p: &mut RefParticle, dy: f64, searching: bool, bounds: &Bounds) {
+        let RefSize { hx, dhx, hy, dhy } = p.size;
         let hy_raw = hy + dhy + self.config.scale_per_row.to_f64() * dy;
-        let (hy_pred, hx_pred) = bounds.halves(hy_raw, hx * hy_raw / hy.max(EPS_HALF));
+        let (hx, hy) = bounds.halves(hx * hy_raw / hy.max(EPS_HALF), hy_raw);
         let sigma = if searching {
             0.0
         } else {
@@ -579,7 +593,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         };
         let dhy = dhy + self.gaussian(sigma);
         let dhx = dhx + self.gaussian(sigma);
-        p.leaf = [hy_pred, dhy, hx_pred, dhx];
+        p.size = RefSize { hx, dhx, hy, dhy };
     }
 
     /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized
@@ -594,7 +608,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             let x = self.rng.below(width) as f64;
             let y = self.rng.below(height) as f64;
             let hy = last.hy + k * (y - last.cy);
-            let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
+            let (hx, hy) = bounds.halves(last.hx * (hy / last.hy), hy);
             self.particles[i] = RefParticle::at(&RefEllipse {
                 cx: x,
                 cy: y,
@@ -739,7 +753,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         let mut best = (0.0, 1.0, 0.0);
         for k in [0.0, -1.0, 1.0, -2.0, 2.0] {
             let factor = 1.0 + step * k;
-            let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
+            let (hx, hy) = bounds.halves(mean.hx * factor, mean.hy * factor);
             let e = RefEllipse { hx, hy, ..mean };
             let likelihood = self.likelihood(frame, &e);
             if likelihood > best.0 {
@@ -750,7 +764,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         (best.0 > 0.0 && best.2 >= self.config.lost_below.to_f64()).then_some(best.1)
     }
 
-    /// Measures the size as the weighted mean's times `factor` and gives every leaf the
+    /// Measures the size as the weighted mean's times `factor` and gives every size the
     /// Kalman update with the shared gain (`None`: no measurement, the means keep their
     /// prediction); the shared covariance takes its update either way.
     fn update_sizes(&mut self, factor: Option<f64>, bounds: &Bounds) {
@@ -761,15 +775,18 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             return;
         };
         let mean = self.weighted_mean(|_| true).ellipse;
-        let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
-        let y = [hy, hx];
+        let (hx, hy) = bounds.halves(mean.hx * factor, mean.hy * factor);
+        let [gain_x, gain_y] = gains;
+        // `(position, rate) += K (y - position)`.
+        let update = |position: &mut f64, rate: &mut f64, [k0, k1]: [f64; 2], y: f64| {
+            let innovation = y - *position;
+            *position += k0 * innovation;
+            *rate += k1 * innovation;
+        };
         for p in self.particles.iter_mut() {
-            for (axis, (gain, y)) in gains.iter().zip(y).enumerate() {
-                let innovation = y - p.leaf[2 * axis];
-                p.leaf[2 * axis] += gain[0] * innovation;
-                p.leaf[2 * axis + 1] += gain[1] * innovation;
-            }
-            (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0], p.leaf[2]);
+            update(&mut p.size.hx, &mut p.size.dhx, gain_x, hx);
+            update(&mut p.size.hy, &mut p.size.dhy, gain_y, hy);
+            (p.size.hx, p.size.hy) = bounds.halves(p.size.hx, p.size.hy);
         }
     }
 
@@ -786,7 +803,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             total += w;
             for (s, v) in sums
                 .iter_mut()
-                .zip([p.x, p.y, p.vx, p.vy, p.leaf[2], p.leaf[0]])
+                .zip([p.x, p.y, p.vx, p.vy, p.size.hx, p.size.hy])
             {
                 *s += w * v;
             }
@@ -851,7 +868,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             let e = &estimate.ellipse;
             let s = self
                 .motion_spread
-                .unwrap_or_else(|| self.nominal_noise(e.hy, e.hx));
+                .unwrap_or_else(|| self.nominal_noise(e.hx, e.hy));
             self.motion_spread = Some(s + ((dx.abs() + dy.abs()) / 2.0 - s) / 8.0);
         } else {
             self.motion_spread = None;

@@ -14,15 +14,10 @@ use std::process::{Command, Output, Stdio};
 /// Frames of the generated sequences.
 const FRAMES: usize = 6;
 
+mod common;
+
 fn temp_dir(name: &str) -> PathBuf {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_nanos())
-        .unwrap_or(0);
-    let dir =
-        std::env::temp_dir().join(format!("rbtrack-cli-{name}-{}-{nanos}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::temp_dir("cli", name)
 }
 
 /// Frame width of the generated sequences, px.

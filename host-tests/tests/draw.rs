@@ -4,17 +4,10 @@ use rbtrack_host::draw::*;
 use rbtrack_host::metrics::{precision_curve, success_curve, BBox};
 use std::path::PathBuf;
 
+mod common;
+
 fn temp_dir(name: &str) -> PathBuf {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_nanos())
-        .unwrap_or(0);
-    let dir = std::env::temp_dir().join(format!(
-        "rbtrack-draw-{name}-{}-{nanos}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::temp_dir("draw", name)
 }
 
 fn px(rgb: &[u8], w: u32, x: u32, y: u32) -> [u8; 3] {

@@ -1,7 +1,8 @@
 //! Synthetic scenes: determinism, appearance, and the ground truth of each variant.
 
+use rbtrack::image::rgb888_to_rgb565;
 use rbtrack_host::metrics::BBox;
-use rbtrack_host::pixels::{rgb565, Format, Frame};
+use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::scene::*;
 
 fn scene(variant: Variant, seed: u64) -> Scene {
@@ -58,7 +59,7 @@ fn frame_sizes_and_rgb565() {
     assert_eq!(packed.bytes.len(), 320 * 240 * 2);
     assert_eq!(
         packed.bytes[..2],
-        rgb565(rgb[0], rgb[1], rgb[2]).to_le_bytes()
+        rgb888_to_rgb565(rgb[0], rgb[1], rgb[2]).to_le_bytes()
     );
     assert_eq!(s.frames().count(), 100);
 

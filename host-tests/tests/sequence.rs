@@ -6,13 +6,11 @@ use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::sequence::*;
 use std::path::{Path, PathBuf};
 
+mod common;
+
+/// A fresh sequence folder with an empty `img` folder.
 fn temp_dir(name: &str) -> PathBuf {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_nanos())
-        .unwrap_or(0);
-    let dir =
-        std::env::temp_dir().join(format!("rbtrack-seq-{name}-{}-{nanos}", std::process::id()));
+    let dir = common::temp_dir("seq", name);
     std::fs::create_dir_all(dir.join("img")).unwrap();
     dir
 }

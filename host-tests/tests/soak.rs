@@ -30,11 +30,10 @@
 //! --nocapture`.
 
 use rbtrack::fixed::Q16;
-use rbtrack::image::{ImageView, Rgb565Le, Rgb8x8x8};
+use rbtrack::image::{rgb888_to_rgb565, ImageView, Rgb565Le, Rgb8x8x8};
 use rbtrack::kalman::{BlockNoise, SharedCovariance, Sym2, Sym4};
 use rbtrack::tracker::{Config, Estimate, Status, Tracker, Variant};
 use rbtrack::window::Ellipse;
-use rbtrack_host::pixels::rgb565;
 use std::time::Instant;
 
 const W: usize = 32;
@@ -135,7 +134,7 @@ impl Stream {
                 p if (NOISE..BACK).contains(&p) => [r as u8, (r >> 8) as u8, (r >> 16) as u8],
                 _ => c.map(|v| (v as i32 + (r % 13) as i32 - 6).clamp(0, 255) as u8),
             };
-            px.copy_from_slice(&rgb565(c[0], c[1], c[2]).to_le_bytes());
+            px.copy_from_slice(&rgb888_to_rgb565(c[0], c[1], c[2]).to_le_bytes());
         }
         self.advance();
     }
@@ -231,7 +230,7 @@ fn steady_state(c: &Config) -> Sym4 {
     let mut s = SharedCovariance::new(p0, p0, noise).expect("valid noise");
     for _ in 0..10_000 {
         s.predict(Q16::ONE);
-        s.update(&mut [], [Q16::ZERO; 2]);
+        s.update(&mut [], Q16::ZERO, Q16::ZERO);
     }
     s.cov()
 }
@@ -299,7 +298,7 @@ fn soak(variant: Variant, seed: u64, frames: u64, adaptive: bool) -> Report {
         assert!(e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE);
 
         if variant == Variant::Rbpf {
-            let p = tracker.leaf_covariance();
+            let p = tracker.size_covariance();
             assert!(
                 p.is_block_diagonal() && p.y_block().is_psd() && p.x_block().is_psd(),
                 "frame {frame}: {p:?}"

@@ -1,6 +1,9 @@
-//! Tracker configuration, checked once by [`Config::validate`].
+//! Tracker configuration: [`Config`], checked once, and what a tracker derives from it.
 
+use crate::colour::ColourSettings;
+use crate::cue::{self, GradientConfig, GradientCue, DEFAULT_SATURATION};
 use crate::fixed::Q16;
+use crate::kalman::{BlockNoise, KalmanError, SharedCovariance, Sym2};
 use crate::likelihood::CostScale;
 use crate::resample::Scheme;
 
@@ -95,9 +98,11 @@ pub struct Config {
     pub gradient_sigma: Q16,
     /// How the two cues combine (RBPF).
     pub cue_mix: CueMix,
-    /// Points on the ellipse boundary where the gradient cue looks, `4..=64` (RBPF).
+    /// Points on the ellipse boundary where the gradient cue looks (RBPF), in the cue's
+    /// range `1..=`[`cue::MAX_POINTS`] ([`GradientConfig::points`]).
     pub gradient_points: u8,
-    /// Half-length of the search along the boundary normal, px, `1..=16` (RBPF).
+    /// Half-length of the search along the boundary normal, px (RBPF), in the cue's range
+    /// `0..=`[`cue::MAX_SEARCH_PX`] ([`GradientConfig::search_px`]).
     pub gradient_search: u8,
     /// Resampling scheme.
     pub resampling: Scheme,
@@ -159,12 +164,18 @@ pub struct Config {
     pub learn_scale_per_row: bool,
 }
 
-/// A configuration field out of its documented range; names the field.
+/// Why a configuration, or the start it was given, was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ConfigError {
     /// The named field is outside its documented range.
     OutOfRange(&'static str),
+    /// The gradient cue refused its settings ([`Config::gradient`]: `gradient_points`,
+    /// `gradient_search`).
+    Gradient(cue::ConfigError),
+    /// The Kalman filter refused its noise or start covariance (from `kalman_q` and
+    /// `kalman_r`).
+    Kalman(KalmanError),
     /// The particle count `N` is 0 or above 65535.
     ParticleCount,
     /// The initial ellipse has a half-axis below `min_half_axis` or its centre outside
@@ -176,6 +187,8 @@ impl core::fmt::Display for ConfigError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Self::OutOfRange(field) => write!(f, "configuration field `{field}` out of range"),
+            Self::Gradient(e) => write!(f, "{e}"),
+            Self::Kalman(e) => write!(f, "Kalman filter: {e}"),
             Self::ParticleCount => write!(f, "particle count must be in 1..=65535"),
             Self::InitialEllipse => {
                 write!(f, "initial ellipse too small or centred outside the frame")
@@ -184,12 +197,32 @@ impl core::fmt::Display for ConfigError {
     }
 }
 
-impl core::error::Error for ConfigError {}
+impl core::error::Error for ConfigError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Self::Gradient(e) => Some(e),
+            Self::Kalman(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<cue::ConfigError> for ConfigError {
+    fn from(e: cue::ConfigError) -> Self {
+        Self::Gradient(e)
+    }
+}
+
+impl From<KalmanError> for ConfigError {
+    fn from(e: KalmanError) -> Self {
+        Self::Kalman(e)
+    }
+}
 
 /// `n / den` rounded to nearest (half away from zero), Q16.16: a decimal constant in a
 /// `const` context, equal to `Q16::from_f64` of it (checked in the tests).
 pub(super) const fn decimal(n: i64, den: i64) -> Q16 {
-    let scaled = n * 65536;
+    let scaled = n << Q16::FRAC_BITS;
     let half = den / 2;
     let rounded = if scaled >= 0 {
         (scaled + half) / den
@@ -199,21 +232,65 @@ pub(super) const fn decimal(n: i64, den: i64) -> Q16 {
     Q16::from_bits(rounded as i32)
 }
 
-/// Quantities derived from a valid [`Config`] once, at construction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a tracker derives once per (re)start: from its valid [`Config`], and the contrast
+/// box calibration from the first frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) struct Derived {
-    pub colour: CostScale,
-    pub gradient: CostScale,
-    pub contrast: Option<CostScale>,
+    /// `1 / (2 colour_sigma^2)`.
+    pub colour_cost: CostScale,
+    /// `1 / (2 gradient_sigma^2)`.
+    pub gradient_cost: CostScale,
+    /// `1 / (2 contrast_sigma^2)`, if the contrast cue is in the weights.
+    pub contrast_cost: Option<CostScale>,
+    /// The gradient cue, with its angle tables.
+    pub cue: GradientCue,
+    /// The size covariance every (re)start begins from, both blocks.
+    pub initial_cov: Sym2,
+    /// Scale of the contrast boxes relative to the windows' bounding boxes, Q16.16: the
+    /// scale at which the first window had the highest contrast.
+    pub calibration: Q16,
 }
 
 impl Derived {
-    /// Before [`Config::derive`]: every scale 0.
+    /// Before [`Config::derive`]: every bit zero.
     pub const UNSET: Self = Self {
-        colour: CostScale::ZERO,
-        gradient: CostScale::ZERO,
-        contrast: None,
+        colour_cost: CostScale::ZERO,
+        gradient_cost: CostScale::ZERO,
+        contrast_cost: None,
+        cue: GradientCue::UNSET,
+        initial_cov: Sym2::ZERO,
+        calibration: Q16::ZERO,
     };
+}
+
+/// `Ok` if `ok`, else the error naming `field`.
+fn check(ok: bool, field: &'static str) -> Result<(), ConfigError> {
+    ok.then_some(()).ok_or(ConfigError::OutOfRange(field))
+}
+
+/// Whether `v` lies in `[0, 1]`.
+fn unit(v: Q16) -> bool {
+    (Q16::ZERO..=Q16::ONE).contains(&v)
+}
+
+/// Whether `v` lies in `[0, max]`.
+fn up_to(v: Q16, max: i32) -> bool {
+    (Q16::ZERO..=Q16::from_int(max)).contains(&v)
+}
+
+/// Whether `v` lies in `(0, max]`.
+fn positive_up_to(v: Q16, max: Q16) -> bool {
+    v > Q16::ZERO && v <= max
+}
+
+/// Whether `v` lies in `(1, max]`.
+fn above_one_up_to(v: Q16, max: i32) -> bool {
+    v > Q16::ONE && v <= Q16::from_int(max)
+}
+
+/// The cost scale of the cue sigma in `field`, or the error naming it.
+fn cost_scale(sigma: Q16, field: &'static str) -> Result<CostScale, ConfigError> {
+    CostScale::from_sigma_q16(sigma).ok_or(ConfigError::OutOfRange(field))
 }
 
 impl Config {
@@ -354,114 +431,133 @@ impl Config {
         }
     }
 
-    /// Checks every field; the error names the first one out of range.
+    /// Checks every field; the error names the first one out of range, or wraps the
+    /// gradient cue's or the Kalman filter's refusal of the settings they take.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        let unit = Q16::ZERO..=Q16::ONE;
-        let up_to = |v: Q16, max: i32| v >= Q16::ZERO && v <= Q16::from_int(max);
-        let positive_up_to = |v: Q16, max: Q16| v > Q16::ZERO && v <= max;
-        let sigma = |v: Q16| CostScale::from_sigma_q16(v).is_some();
-        let checks: [(bool, &'static str); 30] = [
-            (
-                (16..=65536).contains(&self.pixels_per_window),
-                "pixels_per_window",
-            ),
-            (
-                positive_up_to(self.position_noise, Q16::from_int(256)),
-                "position_noise",
-            ),
-            (
-                up_to(self.relative_position_noise, 4),
-                "relative_position_noise",
-            ),
-            (up_to(self.velocity_noise, 64), "velocity_noise"),
-            (unit.contains(&self.velocity_keep), "velocity_keep"),
-            (up_to(self.noise_gain, 16), "noise_gain"),
-            (positive_up_to(self.noise_floor, Q16::ONE), "noise_floor"),
-            (
-                up_to(
-                    self.scale_noise,
-                    if self.variant == Variant::Rbpf { 64 } else { 1 },
-                ),
-                "scale_noise",
-            ),
-            (sigma(self.colour_sigma), "colour_sigma"),
-            (sigma(self.gradient_sigma), "gradient_sigma"),
-            (
-                !matches!(self.cue_mix, CueMix::Average(a) if !unit.contains(&a)),
-                "cue_mix",
-            ),
-            ((4..=64).contains(&self.gradient_points), "gradient_points"),
-            ((1..=16).contains(&self.gradient_search), "gradient_search"),
-            (
-                positive_up_to(self.resample_below, Q16::ONE),
-                "resample_below",
-            ),
-            (
-                !matches!(self.readout, Readout::RobustMean(r) if r <= Q16::ZERO),
-                "readout",
-            ),
-            (unit.contains(&self.adapt_rate), "adapt_rate"),
-            (unit.contains(&self.adapt_above), "adapt_above"),
-            (unit.contains(&self.uncertain_below), "uncertain_below"),
-            (
-                (Q16::ZERO..=self.uncertain_below).contains(&self.lost_below),
-                "lost_below",
-            ),
-            (unit.contains(&self.redetect_share), "redetect_share"),
-            (
-                (Q16::from_int(-4)..=Q16::from_int(4)).contains(&self.scale_per_row),
-                "scale_per_row",
-            ),
-            (
-                positive_up_to(self.kalman_q, Q16::from_int(1024)),
-                "kalman_q",
-            ),
-            (
-                positive_up_to(self.kalman_r, Q16::from_int(1024)),
-                "kalman_r",
-            ),
-            (
-                (decimal(1, 100)..=Q16::HALF).contains(&self.scale_step),
-                "scale_step",
-            ),
-            (
-                (Q16::ONE..=Q16::from_int(1024)).contains(&self.min_half_axis),
-                "min_half_axis",
-            ),
-            (unit.contains(&self.background_floor), "background_floor"),
-            (
-                self.ring_scale > Q16::ONE && self.ring_scale <= Q16::from_int(4),
-                "ring_scale",
-            ),
-            (self.contrast_sigma.is_none_or(sigma), "contrast_sigma"),
-            (
-                self.contrast_ring > Q16::ONE && self.contrast_ring <= Q16::from_int(2),
-                "contrast_ring",
-            ),
-            (
-                positive_up_to(self.redetect_prior, Q16::ONE),
-                "redetect_prior",
-            ),
-        ];
-        match checks.iter().find(|(ok, _)| !ok) {
-            Some((_, field)) => Err(ConfigError::OutOfRange(field)),
-            None => Ok(()),
+        self.derive().map(drop)
+    }
+
+    /// The gradient cue's settings: `gradient_points` boundary points searched
+    /// `gradient_search` px each side, saturating at [`DEFAULT_SATURATION`].
+    pub const fn gradient(&self) -> GradientConfig {
+        let mut gradient = GradientConfig::new();
+        gradient.points = self.gradient_points as usize;
+        gradient.search_px = self.gradient_search as u32;
+        gradient.saturation = DEFAULT_SATURATION;
+        gradient
+    }
+
+    /// The colour model's settings.
+    pub(crate) const fn colour(&self) -> ColourSettings {
+        ColourSettings {
+            split_halves: self.split_halves,
+            background: if self.background_weighting {
+                Some(self.background_floor)
+            } else {
+                None
+            },
+            ring_scale: self.ring_scale,
+            cap: self.pixels_per_window,
         }
     }
 
-    /// Validates and derives the cost scales.
+    /// The Kalman filter's noise: `Q = kalman_q I`, `R = kalman_r I`.
+    pub(crate) const fn size_noise(&self) -> BlockNoise {
+        let (q, r) = (self.kalman_q, self.kalman_r);
+        BlockNoise::diagonal([q; 4], [r; 2])
+    }
+
+    /// The size covariance of a (re)start, `diag(kalman_r, kalman_q)` in each block: the
+    /// half-axis as uncertain as one measurement, the rate as one step's noise.
+    pub(crate) const fn initial_size_cov(&self) -> Sym2 {
+        Sym2::diagonal(self.kalman_r, self.kalman_q)
+    }
+
+    /// Checks every field in declaration order (one line each) and derives what the
+    /// tracker needs from them.
     pub(crate) fn derive(&self) -> Result<Derived, ConfigError> {
-        self.validate()?;
-        let scale = |sigma: Q16, field| {
-            CostScale::from_sigma_q16(sigma).ok_or(ConfigError::OutOfRange(field))
-        };
+        let rbpf = self.variant == Variant::Rbpf;
+        check(
+            (16..=65536).contains(&self.pixels_per_window),
+            "pixels_per_window",
+        )?;
+        check(
+            positive_up_to(self.position_noise, Q16::from_int(256)),
+            "position_noise",
+        )?;
+        check(
+            up_to(self.relative_position_noise, 4),
+            "relative_position_noise",
+        )?;
+        check(up_to(self.velocity_noise, 64), "velocity_noise")?;
+        check(unit(self.velocity_keep), "velocity_keep")?;
+        check(up_to(self.noise_gain, 16), "noise_gain")?;
+        check(positive_up_to(self.noise_floor, Q16::ONE), "noise_floor")?;
+        check(
+            up_to(self.scale_noise, if rbpf { 64 } else { 1 }),
+            "scale_noise",
+        )?;
+        let colour_cost = cost_scale(self.colour_sigma, "colour_sigma")?;
+        let gradient_cost = cost_scale(self.gradient_sigma, "gradient_sigma")?;
+        check(
+            !matches!(self.cue_mix, CueMix::Average(a) if !unit(a)),
+            "cue_mix",
+        )?;
+        let cue = GradientCue::new(&self.gradient())?;
+        check(
+            positive_up_to(self.resample_below, Q16::ONE),
+            "resample_below",
+        )?;
+        check(
+            !matches!(self.readout, Readout::RobustMean(r) if r <= Q16::ZERO),
+            "readout",
+        )?;
+        check(unit(self.adapt_rate), "adapt_rate")?;
+        check(unit(self.adapt_above), "adapt_above")?;
+        check(unit(self.uncertain_below), "uncertain_below")?;
+        check(
+            self.lost_below >= Q16::ZERO && self.lost_below <= self.uncertain_below,
+            "lost_below",
+        )?;
+        check(unit(self.redetect_share), "redetect_share")?;
+        check(
+            self.scale_per_row.abs() <= Q16::from_int(4),
+            "scale_per_row",
+        )?;
+        check(
+            positive_up_to(self.kalman_q, Q16::from_int(1024)),
+            "kalman_q",
+        )?;
+        check(
+            positive_up_to(self.kalman_r, Q16::from_int(1024)),
+            "kalman_r",
+        )?;
+        let initial_cov = self.initial_size_cov();
+        SharedCovariance::new(initial_cov, initial_cov, self.size_noise())?;
+        check(
+            (decimal(1, 100)..=Q16::HALF).contains(&self.scale_step),
+            "scale_step",
+        )?;
+        check(
+            (Q16::ONE..=Q16::from_int(1024)).contains(&self.min_half_axis),
+            "min_half_axis",
+        )?;
+        check(unit(self.background_floor), "background_floor")?;
+        check(above_one_up_to(self.ring_scale, 4), "ring_scale")?;
+        let contrast = self.contrast_sigma.map(|s| cost_scale(s, "contrast_sigma"));
+        let contrast_cost = contrast.transpose()?;
+        check(above_one_up_to(self.contrast_ring, 2), "contrast_ring")?;
+        check(
+            positive_up_to(self.redetect_prior, Q16::ONE),
+            "redetect_prior",
+        )?;
         Ok(Derived {
-            colour: scale(self.colour_sigma, "colour_sigma")?,
-            gradient: scale(self.gradient_sigma, "gradient_sigma")?,
-            contrast: self
-                .contrast_sigma
-                .map(|s| scale(s, "contrast_sigma"))
-                .transpose()?,
+            colour_cost,
+            gradient_cost,
+            contrast_cost,
+            cue,
+            initial_cov,
+            calibration: Q16::ONE,
         })
     }
 }
@@ -498,82 +594,82 @@ mod tests {
     }
 
     #[test]
-    fn each_error_names_its_field() {
+    fn each_error_names_its_field_or_wraps_the_inner_one() {
         let base = Config::new(Variant::Rbpf);
-        let cases: [(Config, &str); 10] = [
+        let cases: [(Config, ConfigError); 10] = [
             (
                 Config {
                     pixels_per_window: 3,
                     ..base
                 },
-                "pixels_per_window",
+                ConfigError::OutOfRange("pixels_per_window"),
             ),
             (
                 Config {
                     position_noise: Q16::ZERO,
                     ..base
                 },
-                "position_noise",
+                ConfigError::OutOfRange("position_noise"),
             ),
             (
                 Config {
                     colour_sigma: Q16::ZERO,
                     ..base
                 },
-                "colour_sigma",
+                ConfigError::OutOfRange("colour_sigma"),
             ),
             (
                 Config {
                     gradient_points: 200,
                     ..base
                 },
-                "gradient_points",
+                ConfigError::Gradient(cue::ConfigError::OutOfRange("points")),
             ),
             (
                 Config {
                     resample_below: Q16::ZERO,
                     ..base
                 },
-                "resample_below",
+                ConfigError::OutOfRange("resample_below"),
             ),
             (
                 Config {
                     lost_below: Q16::from_f64(0.9),
                     ..base
                 },
-                "lost_below",
+                ConfigError::OutOfRange("lost_below"),
             ),
             (
                 Config {
                     kalman_r: Q16::MIN,
                     ..base
                 },
-                "kalman_r",
+                ConfigError::OutOfRange("kalman_r"),
             ),
             (
                 Config {
                     cue_mix: CueMix::Average(Q16::from_int(2)),
                     ..base
                 },
-                "cue_mix",
+                ConfigError::OutOfRange("cue_mix"),
             ),
             (
                 Config {
                     noise_gain: Q16::from_int(17),
                     ..base
                 },
-                "noise_gain",
+                ConfigError::OutOfRange("noise_gain"),
             ),
             (
                 Config {
                     noise_floor: Q16::ZERO,
                     ..base
                 },
-                "noise_floor",
+                ConfigError::OutOfRange("noise_floor"),
             ),
         ];
-        for (config, field) in cases {
-            assert_eq!(config.validate(), Err(ConfigError::OutOfRange(field)));
+        for (config, error) in cases {
+            assert_eq!(config.validate(), Err(error));
         }
     }
 }

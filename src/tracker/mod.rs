@@ -1,5 +1,5 @@
 //! The two trackers: the colour particle filter and the Rao-Blackwellised particle filter,
-//! one engine with a [`Variant`] switch.
+//! one engine with a [`Variant`] switch, run one frame at a time by [`Tracker::step`].
 //!
 //! Both share the window, histogram, cue, resampling and read-out code; they differ in how
 //! a particle's ellipse size moves (sampled, or a Kalman filter per particle fed by a
@@ -19,13 +19,24 @@
 //!    normalised; if all vanished they become uniform.
 //! 3. **Update** (RBPF): the size is measured once, around the weighted mean: of five
 //!    scales `1 + {0, -1, 1, -2, 2} scale_step` of the mean predicted ellipse, the one of
-//!    highest likelihood (same cues as the particles) gives `Y = (Hy, Hx)`; every leaf mean
-//!    takes the Kalman update with the shared gain, unless that window's Bhattacharyya
-//!    coefficient is below `lost_below` (no target there: the prediction stands).
+//!    highest likelihood (same cues as the particles) gives `Y = (Hx, Hy)`; every
+//!    particle's size takes the Kalman update with the shared gain, unless that window's
+//!    Bhattacharyya coefficient is below `lost_below` (no target there: the prediction
+//!    stands).
 //! 4. **Estimate**: weighted mean, best particle or robust mean; its window's Bhattacharyya
 //!    coefficient is the confidence, which sets the [`Status`] and, when high, blends the
 //!    window's histogram into the model.
 //! 5. **Resample** when the effective sample size is below `resample_below * N`.
+//!
+//! # Layout
+//! A [`Tracker`] holds its [`Config`] and what it derives once per (re)start (cost scales,
+//! the gradient cue's tables, the initial size covariance, the contrast box calibration),
+//! the filter's state carried from frame to frame (random stream, particles, weights, size
+//! covariance, colour model, ground plane, last estimate), scratch memory that each step
+//! rebuilds (cues and costs, histograms, the object map, the gradient memo, resampling
+//! indices) and the report of what the last step did. Each stage of a step is its own file: `propagate.rs`,
+//! `weigh.rs` (with the object map's contrast cue in `contrast.rs`), `size.rs` and
+//! `estimate.rs`.
 //!
 //! # Bounded work
 //! A step visits at most [`max_pixels_per_step`]`(N, pixels_per_window)` =
@@ -69,29 +80,32 @@
 //! ```
 
 mod config;
+mod contrast;
+mod estimate;
 mod particle;
+mod propagate;
+mod size;
+mod weigh;
 
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
+pub use estimate::{Estimate, Status};
 pub use particle::Particle;
 
-use crate::colour::{ColourModel, ColourSettings};
-use crate::cue::{GradientConfig, GradientCue, GradientMemo};
+use crate::colour::ColourModel;
+use crate::cue::GradientMemo;
 use crate::fixed::Q16;
 use crate::ground::GroundPlane;
 use crate::hist::Histogram;
 use crate::image::{Binning, ImageView, PixelFormat};
-use crate::kalman::{BlockNoise, SharedCovariance, Sym2};
-use crate::likelihood::exp_neg;
-use crate::map::{ObjectMap, Span};
+use crate::kalman::{SharedCovariance, Sym4};
+use crate::map::ObjectMap;
 use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
-use crate::resample::{
-    effective_sample_size_at_least, normalise, replicate, resample, Normalised, WEIGHT_TOTAL,
-};
+use crate::resample::{MAX_PARTICLES, WEIGHT_TOTAL};
 use crate::rng::Rng;
 use crate::window::{Ellipse, MAX_CAP};
 use config::Derived;
 use core::marker::PhantomData;
-use particle::{predict_leaf, scale_randomly, Bounds, Motion};
+use particle::Bounds;
 
 /// The most pixels a step of `particles` particles with a pixel cap of `cap` px reads
 /// (see "Bounded work" in the module documentation), px.
@@ -99,20 +113,6 @@ pub const fn max_pixels_per_step(particles: usize, cap: u32) -> u64 {
     let cap = if cap < MAX_CAP { cap } else { MAX_CAP } as u64;
     let map_cells = (crate::map::SIDE * crate::map::SIDE) as u64;
     (particles as u64 + 10) * cap + 2 * map_cells
-}
-
-/// The colour model's settings in `config`.
-const fn colour_settings(config: &Config) -> ColourSettings {
-    ColourSettings {
-        split_halves: config.split_halves,
-        background: if config.background_weighting {
-            Some(config.background_floor)
-        } else {
-            None
-        },
-        ring_scale: config.ring_scale,
-        cap: config.pixels_per_window,
-    }
 }
 
 /// Whether `init` can start a tracker of `config` on `frame`: half-axes at least
@@ -131,91 +131,90 @@ fn check_init<P: PixelFormat>(
     usable.then_some(()).ok_or(ConfigError::InitialEllipse)
 }
 
-/// The scales tried when measuring the size: `1 + k scale_step` for these `k`, the
-/// unchanged size first (it wins a tie).
-const SCALE_STEPS: [i32; 5] = [0, -1, 1, -2, 2];
-
-/// How sure the tracker is of its estimate.
-///
-/// `Lost` is 0, so that an unstarted tracker ([`Tracker::unstarted`]) is all zero bits and
-/// a `static` of one takes no flash.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[repr(u8)]
-pub enum Status {
-    /// Confidence at or above `uncertain_below`.
-    Tracking = 1,
-    /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, the tracker searches
-    /// the whole frame with part of its particles.
-    Uncertain = 2,
-    /// Confidence below `lost_below`.
-    Lost = 0,
-}
-
-/// Where the target is after a step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Estimate {
-    /// Centre and half-axes, px, Q16.16; the centre is always inside the frame.
-    pub ellipse: Ellipse,
-    /// Horizontal velocity, px/frame, Q16.16.
-    pub vx: Q16,
-    /// Vertical velocity, px/frame, Q16.16.
-    pub vy: Q16,
-    /// Bhattacharyya coefficient of the estimate's window against the model, Q16.16 in
-    /// `[0, 1]`.
-    pub confidence: Q16,
-    /// Tracking, uncertain or lost.
-    pub status: Status,
-}
-
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
 /// the binning `Bn` (`Bn::BINS == B`, checked at compile time).
 ///
-/// Its RAM is its `size_of`, all inline: 44 bytes per particle (state, weight, gradient
-/// cue, resampling scratch), about 14 bytes per bin (model, histogram, touched-bin list),
-/// the 6 KiB gradient memo ([`crate::cue::GradientMemo`]) and under 1 KiB more. With 512
-/// bins: 16,352 bytes at N = 50, 18,552 at N = 100, 22,952 at N = 200 on x86-64 (pinned
-/// by `host-tests/tests/tracking.rs`).
+/// Its RAM is its `size_of`, all inline: 48 bytes per particle (state, weight, gradient
+/// cue, colour cost, resampling scratch), the colour model (about 19 KiB with 512 bins),
+/// two scratch histograms, the object map (16.5 KiB), the 6 KiB gradient memo
+/// ([`crate::cue::GradientMemo`]) and under 1 KiB more: 54,448 bytes at N = 100 with 512
+/// bins on x86-64 (pinned by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
+    /// The configuration in use.
     config: Config,
+    /// What [`Tracker::start`] derived from the configuration.
     derived: Derived,
-    cue: GradientCue,
-    initial_cov: Sym2,
-    leaf_cov: SharedCovariance,
+    /// What the filter knows, carried from frame to frame.
+    state: State<N, B>,
+    /// Working memory of one step.
+    scratch: Scratch<N, B>,
+    /// What the last step did, and how often the weights vanished.
+    report: Report,
+    binning: PhantomData<Bn>,
+}
+
+/// The filter's state, carried from one frame to the next.
+#[derive(Clone, Debug)]
+struct State<const N: usize, const B: usize> {
     /// The random stream (`None` until [`Tracker::start`]).
     rng: Option<Rng>,
     particles: [Particle; N],
+    /// The particles' weights, normalised to [`WEIGHT_TOTAL`].
     weights: [u32; N],
-    /// The gradient cue of each particle's window this frame (RBPF), then its cost.
-    cue_values: [Q16; N],
-    /// The colour cost of each particle's window, this frame.
-    colour_costs: [Q16; N],
-    /// Gradients already computed in this frame (RBPF).
-    memo: GradientMemo,
-    indices: [u16; N],
-    counts: [u16; N],
-    resampled: bool,
-    scale_factor: Option<Q16>,
+    /// The Kalman covariance of the particles' sizes, shared by all (RBPF).
+    size_cov: SharedCovariance,
+    /// The target's colour model against its surroundings.
     colour: ColourModel<B>,
-    /// The histograms of the window being compared.
-    scratch: [Histogram<B>; 2],
-    /// This frame's object map.
-    map: ObjectMap,
-    /// Scale of the contrast boxes relative to the windows' bounding boxes, Q16.16: the
-    /// scale at which the first window had the highest contrast.
-    calibration: Q16,
-    /// The ground-plane fit of the confident estimates.
+    /// The ground-plane fit of the measured sizes.
     ground: GroundPlane,
+    /// The last step's estimate (the initial ellipse before any).
     estimate: Estimate,
+    /// The last estimate with status `Tracking`.
     last_confident: Ellipse,
     /// Mean recent innovation of the estimate against its constant-velocity prediction,
     /// px, Q16.16 (see [`Config::noise_gain`]); `None` until the first step while tracking.
     motion_spread: Option<Q16>,
+}
+
+/// Working memory of a step: written and read within one frame, meaningless between
+/// frames.
+#[derive(Clone, Debug)]
+struct Scratch<const N: usize, const B: usize> {
+    /// The gradient cue of each particle's window (RBPF).
+    cues: [Q16; N],
+    /// The colour cost of each particle's window.
+    colour_costs: [Q16; N],
+    /// Gradients already computed in this frame (RBPF).
+    memo: GradientMemo,
+    /// The particle indices the resampling drew.
+    indices: [u16; N],
+    /// Whether the last step resampled (then [`Scratch::indices`] holds its draw).
+    resampled: bool,
+    /// How many copies of each particle the resampling drew.
+    counts: [u16; N],
+    /// The histograms of the window being compared.
+    histograms: [Histogram<B>; 2],
+    /// This frame's object map.
+    map: ObjectMap,
+}
+
+/// What the last step did, and a count since the start.
+#[derive(Clone, Copy, Debug)]
+struct Report {
+    /// Pixels read.
     pixels_visited: u32,
+    /// The factor of the scale the size measurement chose.
+    scale_factor: Option<Q16>,
+    /// Steps whose weights all vanished and were reset to uniform, since construction.
     weight_recoveries: u32,
-    binning: PhantomData<Bn>,
+}
+
+impl Report {
+    /// Adds `pixels` read to the step's count.
+    fn read(&mut self, pixels: u32) {
+        self.pixels_visited = self.pixels_visited.saturating_add(pixels);
+    }
 }
 
 impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
@@ -231,35 +230,32 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         Self {
             config: Config::UNSET,
             derived: Derived::UNSET,
-            cue: GradientCue::UNSET,
-            initial_cov: Sym2::diagonal(Q16::ZERO, Q16::ZERO),
-            leaf_cov: SharedCovariance::UNSET,
-            rng: None,
-            particles: [Particle::at(&origin); N],
-            weights: [0; N],
-            cue_values: [Q16::ZERO; N],
-            colour_costs: [Q16::ZERO; N],
-            memo: GradientMemo::UNSTARTED,
-            indices: [0; N],
-            counts: [0; N],
-            resampled: false,
-            scale_factor: None,
-            colour: ColourModel::UNSET,
-            scratch: [Histogram::new(), Histogram::new()],
-            map: ObjectMap::new(),
-            calibration: Q16::ZERO,
-            ground: GroundPlane::new(),
-            estimate: Estimate {
-                ellipse: origin,
-                vx: Q16::ZERO,
-                vy: Q16::ZERO,
-                confidence: Q16::ZERO,
-                status: Status::Lost,
+            state: State {
+                rng: None,
+                particles: [Particle::at(&origin); N],
+                weights: [0; N],
+                size_cov: SharedCovariance::UNSET,
+                colour: ColourModel::UNSET,
+                ground: GroundPlane::new(),
+                estimate: Estimate::at_rest(origin, Q16::ZERO, Status::Lost),
+                last_confident: origin,
+                motion_spread: None,
             },
-            last_confident: origin,
-            motion_spread: None,
-            pixels_visited: 0,
-            weight_recoveries: 0,
+            scratch: Scratch {
+                cues: [Q16::ZERO; N],
+                colour_costs: [Q16::ZERO; N],
+                memo: GradientMemo::UNSTARTED,
+                indices: [0; N],
+                resampled: false,
+                counts: [0; N],
+                histograms: [Histogram::new(), Histogram::new()],
+                map: ObjectMap::new(),
+            },
+            report: Report {
+                pixels_visited: 0,
+                scale_factor: None,
+                weight_recoveries: 0,
+            },
             binning: PhantomData,
         }
     }
@@ -269,37 +265,28 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// random stream starts from `config.seed`.
     ///
     /// # Errors
-    /// [`ConfigError::OutOfRange`] naming the first bad field, [`ConfigError::ParticleCount`]
-    /// for `N` outside `1..=65535`, [`ConfigError::InitialEllipse`] for an ellipse with a
-    /// half-axis below `min_half_axis` or a centre outside the frame; the tracker is then
-    /// unchanged.
+    /// As [`Config::validate`] (the first bad field, or the gradient cue's or Kalman
+    /// filter's refusal), [`ConfigError::ParticleCount`] for `N` outside `1..=65535`,
+    /// [`ConfigError::InitialEllipse`] for an ellipse with a half-axis below
+    /// `min_half_axis` or a centre outside the frame; the tracker is then unchanged.
     pub fn start<P: PixelFormat>(
         &mut self,
         config: Config,
         frame: &ImageView<'_, P>,
         init: Ellipse,
     ) -> Result<(), ConfigError> {
-        if N == 0 || N > crate::resample::MAX_PARTICLES {
+        if N == 0 || N > MAX_PARTICLES {
             return Err(ConfigError::ParticleCount);
         }
         let derived = config.derive()?;
-        let mut gradient = GradientConfig::new();
-        gradient.points = config.gradient_points as usize;
-        gradient.search_px = config.gradient_search as u32;
-        let cue = GradientCue::new(&gradient).map_err(|_| ConfigError::OutOfRange("gradient"))?;
-        let initial_cov = Sym2::diagonal(config.kalman_r, config.kalman_q);
-        let q = config.kalman_q;
-        let r = config.kalman_r;
-        let noise = BlockNoise::diagonal([q, q, q, q], [r, r]);
-        let leaf_cov = SharedCovariance::new(initial_cov, initial_cov, noise)
-            .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
         check_init(&config, frame, &init)?;
+        let initial = derived.initial_cov;
+        self.state.size_cov = SharedCovariance::new(initial, initial, config.size_noise())?;
         self.config = config;
-        (self.derived, self.cue, self.initial_cov, self.leaf_cov) =
-            (derived, cue, initial_cov, leaf_cov);
-        self.colour.configure(colour_settings(&config));
-        self.memo.clear();
-        self.rng = Some(Rng::new(config.seed));
+        self.derived = derived;
+        self.state.colour.configure(config.colour());
+        self.scratch.memo.clear();
+        self.state.rng = Some(Rng::new(config.seed));
         self.reset(frame, init)
     }
 
@@ -331,28 +318,25 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         frame: &ImageView<'_, P>,
         init: Ellipse,
     ) -> Result<(), ConfigError> {
-        if self.rng.is_none() {
+        if self.state.rng.is_none() {
             return self.start(Config::new(Variant::Rbpf), frame, init);
         }
         check_init(&self.config, frame, &init)?;
-        self.colour.learn::<Bn, P>(frame, &init, &mut self.scratch);
-        self.calibration = self.calibrate(frame, &init);
-        self.ground = GroundPlane::new();
-        self.particles = [Particle::at(&init); N];
-        self.weights = [WEIGHT_TOTAL / N as u32; N];
-        self.leaf_cov =
-            SharedCovariance::new(self.initial_cov, self.initial_cov, *self.leaf_cov.noise())
-                .map_err(|_| ConfigError::OutOfRange("kalman_q"))?;
-        self.estimate = Estimate {
-            ellipse: init,
-            vx: Q16::ZERO,
-            vy: Q16::ZERO,
-            confidence: Q16::ONE,
-            status: Status::Tracking,
-        };
-        self.last_confident = init;
-        self.motion_spread = None;
-        self.memo.start_frame();
+        let initial = self.derived.initial_cov;
+        let size_cov = SharedCovariance::new(initial, initial, *self.state.size_cov.noise())?;
+        self.state
+            .colour
+            .learn::<Bn, P>(frame, &init, &mut self.scratch.histograms);
+        self.derived.calibration = self.calibrate(frame, &init);
+        let state = &mut self.state;
+        state.ground = GroundPlane::new();
+        state.particles = [Particle::at(&init); N];
+        state.weights = [WEIGHT_TOTAL / N as u32; N];
+        state.size_cov = size_cov;
+        state.estimate = Estimate::at_rest(init, Q16::ONE, Status::Tracking);
+        state.last_confident = init;
+        state.motion_spread = None;
+        self.scratch.memo.start_frame();
         Ok(())
     }
 
@@ -369,13 +353,13 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     ) -> (Estimate, StageCycles) {
         let mut watch = Stopwatch::start(counter);
         let mut cycles = StageCycles::default();
-        if self.rng.is_none() {
-            return (self.estimate, cycles);
+        if self.state.rng.is_none() {
+            return (self.state.estimate, cycles);
         }
         let bounds = Bounds::for_frame(frame.width(), frame.height(), self.config.min_half_axis);
-        self.pixels_visited = 0;
-        self.scale_factor = None;
-        self.memo.start_frame();
+        self.report.pixels_visited = 0;
+        self.report.scale_factor = None;
+        self.scratch.memo.start_frame();
 
         self.propagate(&bounds);
         cycles.propagate = watch.lap();
@@ -388,12 +372,12 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         }
         cycles.update = watch.lap();
 
-        self.estimate = self.read_out(frame);
+        self.state.estimate = self.read_out(frame);
         cycles.estimate = watch.lap();
 
         self.resample_if_degenerate();
         cycles.resample = watch.lap();
-        (self.estimate, cycles)
+        (self.state.estimate, cycles)
     }
 
     /// The ground-plane slope in use (`alpha / beta`, px of half-height per px the centre
@@ -402,9 +386,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     pub fn scale_per_row(&self) -> Q16 {
         let learnt = match self.config.learn_scale_per_row {
             // Rows spread over a quarter of the half-height at least (standard deviation).
-            true => self
-                .ground
-                .slope(Q16::from_bits(self.last_confident.hy.to_bits() >> 2)),
+            true => self.state.ground.slope(Q16::from_bits(
+                self.state.last_confident.hy.to_bits() >> GROUND_SPREAD_SHARE_LOG2,
+            )),
             false => None,
         };
         learnt.unwrap_or(self.config.scale_per_row)
@@ -412,7 +396,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     /// The estimate of the last step (the initial ellipse before any).
     pub fn estimate(&self) -> Estimate {
-        self.estimate
+        self.state.estimate
     }
 
     /// The configuration in use.
@@ -422,472 +406,44 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     /// The particles, after the last step's resampling.
     pub fn particles(&self) -> &[Particle; N] {
-        &self.particles
+        &self.state.particles
     }
 
     /// The particle indices the last step's resampling drew (`rbtrack::resample::resample`
     /// order, before the in-place copy), or `None` if the last step did not resample.
     /// For checking the filter against a reference that follows the same ancestry.
     pub fn last_resampling(&self) -> Option<&[u16; N]> {
-        self.resampled.then_some(&self.indices)
+        self.scratch.resampled.then_some(&self.scratch.indices)
     }
 
     /// The factor of the scale the last step's size measurement chose (RBPF:
     /// `1 + k scale_step`, `k` in `-2..=2`), or `None` when nothing was measured (colour PF,
     /// or every scale had likelihood 0).
     pub fn last_scale_factor(&self) -> Option<Q16> {
-        self.scale_factor
+        self.report.scale_factor
     }
 
     /// Pixels read in the last step (`<= max_pixels_per_step(N, pixels_per_window)`).
     pub fn pixels_visited(&self) -> u32 {
-        self.pixels_visited
+        self.report.pixels_visited
     }
 
     /// Steps whose weights all vanished and were reset to uniform, since construction.
     pub fn weight_recoveries(&self) -> u32 {
-        self.weight_recoveries
+        self.report.weight_recoveries
     }
 
-    /// The Kalman covariance of the leaf `(Hy, dHy, Hx, dHx)` that every particle shares
-    /// (RBPF; the colour PF leaves it at its initial value). Read-only, for checks such
-    /// as the long-run soak test.
-    pub fn leaf_covariance(&self) -> crate::kalman::Sym4 {
-        self.leaf_cov.cov()
-    }
-
-    fn propagate(&mut self, bounds: &Bounds) {
-        let searching = self.estimate.status != Status::Tracking;
-        if searching {
-            self.redetect(bounds);
-        }
-        // While searching, RBPF sizes follow the ground plane only (rates held at zero), so
-        // they cannot drift away from what the rows predict before the target is found.
-        let rate_noise = if searching {
-            Q16::ZERO
-        } else {
-            self.config.scale_noise
-        };
-        let motion = Motion::new(&self.config, self.noise_scale(searching));
-        let slope = self.scale_per_row();
-        let Some(rng) = self.rng.as_mut() else {
-            return;
-        };
-        for p in self.particles.iter_mut() {
-            let y_before = p.y;
-            motion.drift(p, rng, bounds);
-            if self.config.freeze_size {
-                continue;
-            }
-            match self.config.variant {
-                Variant::ColourPf => scale_randomly(p, self.config.scale_noise, rng, bounds),
-                Variant::Rbpf => {
-                    if searching {
-                        (p.leaf[1], p.leaf[3]) = (Q16::ZERO, Q16::ZERO);
-                    }
-                    let dy = p.y - y_before;
-                    predict_leaf(p, dy, slope, rate_noise, rng, bounds)
-                }
-            }
-        }
-        if self.config.variant == Variant::Rbpf {
-            self.leaf_cov.predict(Q16::ONE);
-        }
-    }
-
-    /// The factor on the motion noise this frame: `clamp(noise_gain * s / sigma,
-    /// noise_floor, 1)` while tracking with a known innovation `s`, else 1.
-    fn noise_scale(&self, searching: bool) -> Q16 {
-        match self.motion_spread {
-            Some(spread) if !searching && self.config.noise_gain > Q16::ZERO => {
-                let sigma = self.nominal_noise(&self.estimate.ellipse);
-                (self.config.noise_gain * spread / sigma).clamp(self.config.noise_floor, Q16::ONE)
-            }
-            _ => Q16::ONE,
-        }
-    }
-
-    /// The innovation mean after `estimate`: the distance of its centre from the last
-    /// estimate moved by its velocity, `(|dx| + |dy|) / 2` px, averaged with weight 1/8
-    /// (starting from the unscaled noise, so the noise narrows gradually).
-    fn next_spread(&self, estimate: &Estimate) -> Q16 {
-        let last = &self.estimate;
-        let dx = estimate.ellipse.cx - (last.ellipse.cx + last.vx);
-        let dy = estimate.ellipse.cy - (last.ellipse.cy + last.vy);
-        let innovation = Q16::from_bits((dx.abs().to_bits() >> 1) + (dy.abs().to_bits() >> 1));
-        let spread = self
-            .motion_spread
-            .unwrap_or_else(|| self.nominal_noise(&estimate.ellipse));
-        spread + Q16::from_bits((innovation - spread).to_bits() >> 3)
-    }
-
-    /// The unscaled position noise of a particle on `e`, px.
-    fn nominal_noise(&self, e: &Ellipse) -> Q16 {
-        Motion::new(&self.config, Q16::ONE).position_sigma(e.hy, e.hx)
-    }
-
-    /// Re-draws `redetect_share` of the particles uniformly over the frame, at rest, sized
-    /// as the last confident estimate moved along the ground-plane relation to their row,
-    /// with weight `redetect_prior` against the others' 1.
-    fn redetect(&mut self, bounds: &Bounds) {
-        let count = ((self.config.redetect_share.to_bits() as u64 * N as u64) >> 16) as usize;
-        let last = self.last_confident;
-        let slope = self.scale_per_row();
-        let width = bounds.max_x.floor_int() as u32 + 1;
-        let height = bounds.max_y.floor_int() as u32 + 1;
-        for p in self.particles.iter_mut().take(count) {
-            let Some(rng) = self.rng.as_mut() else {
-                return;
-            };
-            let x = Q16::from_int(rng.below(width) as i32);
-            let y = Q16::from_int(rng.below(height) as i32);
-            let hy = last.hy + slope * (y - last.cy);
-            let (hy, hx) = bounds.halves(hy, last.hx * (hy / last.hy));
-            *p = Particle::at(&Ellipse {
-                cx: x,
-                cy: y,
-                hx,
-                hy,
-            });
-        }
-        let even = WEIGHT_TOTAL / N as u32;
-        let prior = (self.config.redetect_prior * Q16::from_bits(even as i32)).to_bits() as u32;
-        for (i, w) in self.weights.iter_mut().enumerate() {
-            *w = if i < count { prior.max(1) } else { even };
-        }
-    }
-
-    /// The costs of window `e` of colour score `score` ([`crate::colour::Match::score`]):
-    /// colour (the score's, plus the contrast cue's when configured) and gradient (RBPF,
-    /// else 0), Q16.16; `cue` is the window's gradient cue if already known (RBPF).
-    fn costs<P: PixelFormat>(
-        &mut self,
-        frame: &ImageView<'_, P>,
-        e: &Ellipse,
-        score: Q16,
-        cue: Option<Q16>,
-    ) -> (Q16, Q16) {
-        let mut colour = self.derived.colour.cost(Q16::ONE - score);
-        if let Some(scale) = self.derived.contrast {
-            colour += scale.cost(Q16::ONE - self.contrast(e));
-        }
-        let gradient = match self.config.variant {
-            Variant::ColourPf => Q16::ZERO,
-            Variant::Rbpf => {
-                let g = match cue {
-                    Some(g) => g,
-                    None => self.cue.evaluate_memo(frame, e, &mut self.memo),
-                };
-                let miss = Q16::ONE - g;
-                self.derived.gradient.cost(miss * miss)
-            }
-        };
-        (colour, gradient)
-    }
-
-    /// Likelihood, Q0.16 in `0..=65535`, of a window of colour cost `colour` and gradient
-    /// cost `gradient`: `exp(-(colour + gradient - offset))`, `offset` the frame's
-    /// smallest cost (so the best window has 65535 and sharp cues never underflow the
-    /// table for every window at once); with [`CueMix::Average`], the RBPF paper's
-    /// `a exp(-colour) + (1 - a) exp(-gradient)`, no offset.
-    fn likelihood(&self, colour: Q16, gradient: Q16, offset: Q16) -> u32 {
-        match (self.config.variant, self.config.cue_mix) {
-            (Variant::Rbpf, CueMix::Average(a)) => {
-                let a = a.to_bits() as u64; // Q16.16 in 0..=65536
-                ((a * exp_neg(colour) as u64 + (65536 - a) * exp_neg(gradient) as u64) >> 16) as u32
-            }
-            _ => exp_neg(colour + gradient - offset),
-        }
-    }
-
-    /// Mean object probability inside window `e`'s contrast box minus that in the ring
-    /// around it, on this frame's map (see [`crate::map::ObjectMap::contrast`]).
-    fn contrast(&self, e: &Ellipse) -> Q16 {
-        let inner = self.contrast_span(e, Q16::ONE);
-        let outer = self.contrast_span(e, self.config.contrast_ring);
-        self.map.contrast(&inner, &outer)
-    }
-
-    /// The contrast box of window `e` (its bounding box times the calibration), scaled by
-    /// `k` about its centre.
-    fn contrast_span(&self, e: &Ellipse, k: Q16) -> Span {
-        let k = self.calibration.saturating_mul(k);
-        let (hx, hy) = (e.hx.saturating_mul(k), e.hy.saturating_mul(k));
-        Span {
-            x0: e.cx - hx,
-            y0: e.cy - hy,
-            x1: e.cx + hx,
-            y1: e.cy + hy,
-        }
-    }
-
-    /// Whether the RBPF measures sizes on the object map.
-    fn measures_size_by_contrast(&self) -> bool {
-        self.config.variant == Variant::Rbpf
-            && self.config.size_measurement == SizeMeasurement::Contrast
-            && !self.config.freeze_size
-    }
-
-    /// The region every particle's contrast ring covers.
-    fn particle_region(&self) -> Span {
-        let outer = |p: &Particle| self.contrast_span(&p.ellipse(), self.config.contrast_ring);
-        let mut region = self.particles.first().map(outer).unwrap_or_default();
-        for s in self.particles.iter().map(outer) {
-            region = Span {
-                x0: region.x0.min(s.x0),
-                y0: region.y0.min(s.y0),
-                x1: region.x1.max(s.x1),
-                y1: region.y1.max(s.y1),
-            };
-        }
-        region
-    }
-
-    /// Builds this frame's object map over `region`.
-    fn build_map<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, region: &Span) {
-        let prob = self.colour.object_prob();
-        let n = self.map.build::<Bn, P, B>(frame, region, prob);
-        self.pixels_visited = self.pixels_visited.saturating_add(n);
-    }
-
-    /// The contrast box scale at which `init` has the highest contrast on `frame`, by
-    /// steps of 5 % from 1 (at most 20, within `[1/2, 2]`): the measured sizes are then
-    /// relative to the box the user gave, whatever the target's share of it.
-    fn calibrate<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, init: &Ellipse) -> Q16 {
-        self.calibration = Q16::ONE;
-        if !self.measures_size_by_contrast() && self.derived.contrast.is_none() {
-            return Q16::ONE;
-        }
-        // Over three rings: a coarser map than the per-frame measurement's, measured to
-        // hold the sizes better on the real sequences.
-        let reach = Q16::from_int(3) * self.config.contrast_ring;
-        self.build_map(frame, &self.contrast_span(init, reach));
-        let step = self.config.scale_step;
-        for _ in 0..20 {
-            // The best of one step down, none and one step up (no step on a tie).
-            let mut best = (self.contrast(init), Q16::ONE);
-            for factor in [Q16::ONE - step, Q16::ONE + step] {
-                let c = self.contrast(&Ellipse {
-                    hx: init.hx * factor,
-                    hy: init.hy * factor,
-                    ..*init
-                });
-                if c > best.0 {
-                    best = (c, factor);
-                }
-            }
-            if best.1 == Q16::ONE {
-                break;
-            }
-            self.calibration = (self.calibration * best.1).clamp(Q16::HALF, Q16::from_int(2));
-        }
-        self.calibration
-    }
-
-    fn weigh<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) {
-        if self.derived.contrast.is_some() {
-            self.build_map(frame, &self.particle_region());
-        }
-        if self.config.variant == Variant::Rbpf {
-            // Boundary point by boundary point across the particles: their samples of one
-            // point lie close together, so the memo computes each pixel's gradient about
-            // once (the values are those of `GradientCue::evaluate`).
-            let particles = &self.particles;
-            self.cue.evaluate_each(
-                frame,
-                |i| particles.get(i).map(Particle::ellipse).unwrap_or_default(),
-                &mut self.cue_values,
-                &mut self.memo,
-            );
-        }
-        let mut offset = Q16::MAX;
-        for i in 0..N {
-            let e = self.particles[i].ellipse();
-            let (score, pixels) = self.colour.score::<Bn, P>(frame, &e, &mut self.scratch);
-            self.pixels_visited = self.pixels_visited.saturating_add(pixels);
-            let (colour, gradient) = self.costs(frame, &e, score, Some(self.cue_values[i]));
-            (self.colour_costs[i], self.cue_values[i]) = (colour, gradient);
-            offset = offset.min(colour + gradient);
-        }
-        for i in 0..N {
-            let likelihood = self.likelihood(self.colour_costs[i], self.cue_values[i], offset);
-            // weight <= 2^24 (normalised) times likelihood < 2^16, over 2^8: below 2^32.
-            self.weights[i] = ((self.weights[i] as u64 * likelihood as u64) >> 8) as u32;
-        }
-        if normalise(&mut self.weights) == Normalised::AllZero {
-            self.weight_recoveries = self.weight_recoveries.saturating_add(1);
-        }
-    }
-
-    /// Measures the size around the weighted mean and gives every leaf the Kalman update.
-    /// A measurement whose window matches the model less than `lost_below` (the target is
-    /// not there) is dropped: the means keep their prediction, while the shared covariance
-    /// takes its update regardless, so it stays at its data-independent steady state.
-    fn update_sizes<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, bounds: &Bounds) {
-        let mean = self.weighted_mean(|_| true).ellipse;
-        let step = self.config.scale_step;
-        let scaled = |k: i32| {
-            let factor = Q16::ONE + step.mul_int(k);
-            let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
-            (factor, Ellipse { hx, hy, ..mean })
-        };
-        if self.config.size_measurement == SizeMeasurement::Contrast {
-            // The largest scale's ring, with a margin for the map's whole cells.
-            let (_, largest) = scaled(SCALE_STEPS[SCALE_STEPS.len() - 1]);
-            let reach = self.config.contrast_ring * const { config::decimal(11, 10) };
-            self.build_map(frame, &self.contrast_span(&largest, reach));
-        }
-        // (score, factor, usable): the highest score among the scales, the first on a tie.
-        let mut best = (i64::MIN, Q16::ONE, false);
-        for k in SCALE_STEPS {
-            let (factor, e) = scaled(k);
-            let (score, usable) = match self.config.size_measurement {
-                // A window that does not stand out from its ring is not on the target.
-                SizeMeasurement::Contrast => {
-                    let c = self.contrast(&e);
-                    (c.to_bits() as i64, c > Q16::ZERO)
-                }
-                SizeMeasurement::Likelihood => {
-                    let m = self.colour.compare::<Bn, P>(frame, &e, &mut self.scratch);
-                    self.pixels_visited = self.pixels_visited.saturating_add(m.pixels);
-                    let (colour, gradient) = self.costs(frame, &e, m.score, None);
-                    let score = match self.config.cue_mix {
-                        CueMix::Average(_) => self.likelihood(colour, gradient, Q16::ZERO) as i64,
-                        CueMix::Product => -((colour + gradient).to_bits() as i64),
-                    };
-                    // No target there, or (averaged likelihoods) nothing matches at all.
-                    let matched = matches!(self.config.cue_mix, CueMix::Product) || score > 0;
-                    let usable = m.rho >= self.config.lost_below && matched;
-                    (score, usable)
-                }
-            };
-            if score > best.0 {
-                best = (score, factor, usable);
-            }
-        }
-        let gain = self.leaf_cov.gain();
-        self.leaf_cov.update_cov();
-        let (_, factor, usable) = best;
-        if !usable {
-            return;
-        }
-        self.scale_factor = Some(factor);
-        let (hy, hx) = bounds.halves(mean.hy * factor, mean.hx * factor);
-        // The slope is learnt from measured sizes (not from estimates, which already
-        // follow the slope's own prediction), while tracking.
-        if self.config.learn_scale_per_row && self.estimate.status == Status::Tracking {
-            self.ground.observe(mean.cy, hy);
-        }
-        let y = [hy, hx];
-        for p in self.particles.iter_mut() {
-            gain.update_mean(&mut p.leaf, y);
-            (p.leaf[0], p.leaf[2]) = bounds.halves(p.leaf[0], p.leaf[2]);
-        }
-    }
-
-    /// Weighted mean of the particles that `keep` accepts (all weights normalised).
-    fn weighted_mean(&self, keep: impl Fn(&Particle) -> bool) -> Estimate {
-        let mut sums = [0i64; 6];
-        let mut total = 0i64;
-        for (p, &w) in self.particles.iter().zip(self.weights.iter()) {
-            if !keep(p) {
-                continue;
-            }
-            let w = w as i64;
-            total += w;
-            for (s, v) in sums
-                .iter_mut()
-                .zip([p.x, p.y, p.vx, p.vy, p.leaf[2], p.leaf[0]])
-            {
-                *s += w * v.to_bits() as i64;
-            }
-        }
-        let [cx, cy, vx, vy, hx, hy] = sums.map(|s| Q16::saturate(s / total.max(1)));
-        Estimate {
-            ellipse: Ellipse { cx, cy, hx, hy },
-            vx,
-            vy,
-            confidence: Q16::ZERO,
-            status: Status::Lost,
-        }
-    }
-
-    fn best_particle(&self) -> Particle {
-        let mut best = (0u32, Particle::default());
-        for (p, &w) in self.particles.iter().zip(self.weights.iter()) {
-            if w >= best.0 {
-                best = (w, *p);
-            }
-        }
-        best.1
-    }
-
-    fn read_out<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
-        let mut estimate = match self.config.readout {
-            Readout::Mean => self.weighted_mean(|_| true),
-            Readout::Best => {
-                let best = self.best_particle();
-                Estimate {
-                    ellipse: best.ellipse(),
-                    vx: best.vx,
-                    vy: best.vy,
-                    confidence: Q16::ZERO,
-                    status: Status::Lost,
-                }
-            }
-            Readout::RobustMean(radius) => {
-                let best = self.best_particle();
-                self.weighted_mean(|p| {
-                    (p.x - best.x).abs() <= radius && (p.y - best.y).abs() <= radius
-                })
-            }
-        };
-        let m = self
-            .colour
-            .compare::<Bn, P>(frame, &estimate.ellipse, &mut self.scratch);
-        self.pixels_visited = self.pixels_visited.saturating_add(m.pixels);
-        let confidence = m.rho;
-        estimate.confidence = confidence;
-        estimate.status = if confidence < self.config.lost_below {
-            Status::Lost
-        } else if confidence < self.config.uncertain_below {
-            Status::Uncertain
-        } else {
-            Status::Tracking
-        };
-        if estimate.status == Status::Tracking {
-            self.last_confident = estimate.ellipse;
-            self.motion_spread = Some(self.next_spread(&estimate));
-        } else {
-            self.motion_spread = None;
-        }
-        if confidence >= self.config.adapt_above && self.config.adapt_rate > Q16::ZERO {
-            let rate = self.config.adapt_rate;
-            let n = self
-                .colour
-                .adapt::<Bn, P>(frame, &estimate.ellipse, &mut self.scratch, rate);
-            self.pixels_visited = self.pixels_visited.saturating_add(n);
-        }
-        estimate
-    }
-
-    fn resample_if_degenerate(&mut self) {
-        let threshold = self.config.resample_below.mul_int(N as i32);
-        self.resampled = false;
-        if effective_sample_size_at_least(&self.weights, threshold) {
-            return;
-        }
-        let scheme = self.config.resampling;
-        let Some(rng) = self.rng.as_mut() else {
-            return;
-        };
-        if resample(scheme, &mut self.weights, rng, &mut self.indices).is_ok() {
-            replicate(&mut self.particles, &self.indices, &mut self.counts);
-            self.resampled = true;
-        }
-        self.weights = [WEIGHT_TOTAL / N as u32; N];
+    /// The Kalman covariance of the particles' sizes `(Hx, dHx, Hy, dHy)`, shared by every
+    /// particle (RBPF; the colour PF leaves it at its initial value). Read-only, for checks
+    /// such as the long-run soak test.
+    pub fn size_covariance(&self) -> Sym4 {
+        self.state.size_cov.cov()
     }
 }
+
+/// The spread of rows the learnt ground plane needs, as a share of the last confident
+/// half-height: `2^-GROUND_SPREAD_SHARE_LOG2`, a quarter.
+const GROUND_SPREAD_SHARE_LOG2: u32 = 2;
 
 #[cfg(test)]
 mod tests {

@@ -1,14 +1,15 @@
-//! Particle state and its motion model.
+//! A particle: its state, the bounds a frame sets on it, and its motion and size models.
 
 use super::Config;
 use crate::fixed::Q16;
+use crate::kalman::Size;
 use crate::rng::Rng;
 use crate::window::Ellipse;
 
-/// One hypothesis: the sampled motion (root) and the ellipse size (leaf).
+/// One hypothesis: the sampled motion (the RBPF's root) and the ellipse size (its leaf).
 ///
-/// Colour PF: every field is sampled; the leaf rates stay zero. RBPF: the leaf is the mean
-/// of the particle's Kalman filter, `(Hy, dHy, Hx, dHx)`.
+/// Colour PF: every field is sampled; the size's rates stay zero. RBPF: the size is the
+/// mean of the particle's Kalman filter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Particle {
@@ -20,8 +21,8 @@ pub struct Particle {
     pub vx: Q16,
     /// Vertical velocity, px/frame, Q16.16.
     pub vy: Q16,
-    /// `(Hy, dHy, Hx, dHx)`: half-axes, px, and their rates, px/frame, Q16.16.
-    pub leaf: [Q16; 4],
+    /// Half-axes, px, and their rates, px/frame, Q16.16.
+    pub size: Size,
 }
 
 impl Particle {
@@ -32,7 +33,7 @@ impl Particle {
             y: e.cy,
             vx: Q16::ZERO,
             vy: Q16::ZERO,
-            leaf: [e.hy, Q16::ZERO, e.hx, Q16::ZERO],
+            size: Size::at_rest(e.hx, e.hy),
         }
     }
 
@@ -41,11 +42,14 @@ impl Particle {
         Ellipse {
             cx: self.x,
             cy: self.y,
-            hx: self.leaf[2],
-            hy: self.leaf[0],
+            hx: self.size.hx,
+            hy: self.size.hy,
         }
     }
 }
+
+/// The fastest motion along each axis, as a share of the frame's larger side: a quarter.
+const MAX_SPEED_DIVISOR: i32 = 4;
 
 /// Limits a propagated state must respect: the frame and the half-axis range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,28 +73,28 @@ impl Bounds {
             max_y,
             min_half,
             max_half: max_x.max(max_y).max(min_half),
-            max_speed: Q16::from_int(width.max(height) as i32 / 4),
+            max_speed: Q16::from_int(width.max(height) as i32 / MAX_SPEED_DIVISOR),
         }
     }
 
-    /// Half-axes `(Hy, Hx)` brought into range keeping their ratio: a pair with an axis
+    /// Half-axes `(hx, hy)` brought into range keeping their ratio: a pair with an axis
     /// below `min_half` is scaled up until the smaller one equals it (a non-positive axis
     /// is set to `min_half`), then each is capped at `max_half`.
-    pub(crate) fn halves(&self, hy: Q16, hx: Q16) -> (Q16, Q16) {
-        let small = hy.min(hx);
-        let (hy, hx) = if small <= Q16::ZERO {
-            (hy.max(self.min_half), hx.max(self.min_half))
+    pub(crate) fn halves(&self, hx: Q16, hy: Q16) -> (Q16, Q16) {
+        let small = hx.min(hy);
+        let (hx, hy) = if small <= Q16::ZERO {
+            (hx.max(self.min_half), hy.max(self.min_half))
         } else if small < self.min_half {
             let grow = |h: Q16| {
                 Q16::saturate(
                     h.to_bits() as i64 * self.min_half.to_bits() as i64 / small.to_bits() as i64,
                 )
             };
-            (grow(hy), grow(hx))
+            (grow(hx), grow(hy))
         } else {
-            (hy, hx)
+            (hx, hy)
         };
-        (hy.min(self.max_half), hx.min(self.max_half))
+        (hx.min(self.max_half), hy.min(self.max_half))
     }
 }
 
@@ -115,11 +119,11 @@ impl Motion {
         }
     }
 
-    /// Position noise of a particle with half-axes `hy`, `hx`: `position_noise +
+    /// Position noise of a particle with half-axes `hx`, `hy`: `position_noise +
     /// relative_noise * (Hx + Hy) / 2`, px, Q16.16.
     #[inline]
-    pub(crate) fn position_sigma(&self, hy: Q16, hx: Q16) -> Q16 {
-        let size = Q16::from_bits((hy.to_bits() >> 1) + (hx.to_bits() >> 1));
+    pub(crate) fn position_sigma(&self, hx: Q16, hy: Q16) -> Q16 {
+        let size = Q16::from_bits((hx.to_bits() >> 1) + (hy.to_bits() >> 1));
         self.position_noise + self.relative_noise * size
     }
 
@@ -132,7 +136,7 @@ impl Motion {
         let vmax = bounds.max_speed;
         p.vx = (self.velocity_keep * p.vx + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
         p.vy = (self.velocity_keep * p.vy + rng.gaussian(self.velocity_noise)).clamp(-vmax, vmax);
-        let sigma = self.position_sigma(p.leaf[0], p.leaf[2]);
+        let sigma = self.position_sigma(p.size.hx, p.size.hy);
         p.x = (p.x + p.vx + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_x);
         p.y = (p.y + p.vy + rng.gaussian(sigma)).clamp(Q16::ZERO, bounds.max_y);
     }
@@ -142,15 +146,15 @@ impl Motion {
 #[inline]
 pub(crate) fn scale_randomly(p: &mut Particle, relative_noise: Q16, rng: &mut Rng, b: &Bounds) {
     let factor = Q16::ONE + rng.gaussian(relative_noise);
-    (p.leaf[0], p.leaf[2]) = b.halves(p.leaf[0] * factor, p.leaf[2] * factor);
+    (p.size.hx, p.size.hy) = b.halves(p.size.hx * factor, p.size.hy * factor);
 }
 
-/// RBPF leaf mean prediction (eq. 7 of the RBPF paper) for a particle that moved `dy` px
+/// RBPF size mean prediction (eq. 7 of the RBPF paper) for a particle that moved `dy` px
 /// down the image: `Hy^- = Hy + dHy + k dy` (`k` = alpha/beta, px/px),
 /// `Hx^- = Hx Hy^- / Hy` (aspect ratio kept), rates drawn around their previous values
-/// with standard deviation `rate_noise` (px/frame).
+/// with standard deviation `rate_noise` (px/frame), `dHy`'s first.
 #[inline]
-pub(crate) fn predict_leaf(
+pub(crate) fn predict_size(
     p: &mut Particle,
     dy: Q16,
     scale_per_row: Q16,
@@ -158,18 +162,15 @@ pub(crate) fn predict_leaf(
     rng: &mut Rng,
     b: &Bounds,
 ) {
-    let [hy, dhy, hx, dhx] = p.leaf;
+    let Size { hx, dhx, hy, dhy } = p.size;
     let hy_raw = hy + dhy + scale_per_row * dy;
     let hx_raw = Q16::saturate(
         (hx.to_bits() as i64 * hy_raw.to_bits() as i64) / (hy.to_bits().max(1) as i64),
     );
-    let (hy_pred, hx_pred) = b.halves(hy_raw, hx_raw);
-    p.leaf = [
-        hy_pred,
-        dhy + rng.gaussian(rate_noise),
-        hx_pred,
-        dhx + rng.gaussian(rate_noise),
-    ];
+    let (hx, hy) = b.halves(hx_raw, hy_raw);
+    let dhy = dhy + rng.gaussian(rate_noise);
+    let dhx = dhx + rng.gaussian(rate_noise);
+    p.size = Size { hx, dhx, hy, dhy };
 }
 
 #[cfg(test)]
@@ -197,7 +198,7 @@ mod tests {
     }
 
     #[test]
-    fn leaf_prediction_follows_rows_and_keeps_aspect() {
+    fn size_prediction_follows_rows_and_keeps_aspect() {
         let b = Bounds::for_frame(320, 240, Q16::from_int(2));
         let mut p = Particle::at(&Ellipse {
             cx: Q16::from_int(100),
@@ -207,7 +208,7 @@ mod tests {
         });
         let mut rng = Rng::new(1);
         // 10 px down with 0.5 px of half-height per px: Hy 20 -> 25, Hx 10 -> 12.5.
-        predict_leaf(
+        predict_size(
             &mut p,
             Q16::from_int(10),
             Q16::HALF,
@@ -215,12 +216,12 @@ mod tests {
             &mut rng,
             &b,
         );
-        assert_eq!(p.leaf[0], Q16::from_int(25));
-        assert_eq!(p.leaf[2], Q16::from_f64(12.5));
+        assert_eq!(p.size.hy, Q16::from_int(25));
+        assert_eq!(p.size.hx, Q16::from_f64(12.5));
         // Shrinking below the smallest half-axis keeps the aspect ratio: Hy 4 -> 1 would
         // give (1, 0.5); it becomes (4, 2) scaled to (min 2): (4, 2).
-        p.leaf = [Q16::from_int(4), Q16::ZERO, Q16::from_int(2), Q16::ZERO];
-        predict_leaf(
+        p.size = Size::at_rest(Q16::from_int(2), Q16::from_int(4));
+        predict_size(
             &mut p,
             Q16::from_int(-6),
             Q16::HALF,
@@ -228,11 +229,16 @@ mod tests {
             &mut rng,
             &b,
         );
-        assert_eq!((p.leaf[0], p.leaf[2]), (Q16::from_int(4), Q16::from_int(2)));
+        assert_eq!((p.size.hy, p.size.hx), (Q16::from_int(4), Q16::from_int(2)));
         // Degenerate input stays within bounds.
-        p.leaf = [Q16::ZERO, Q16::MIN, Q16::MAX, Q16::MAX];
-        predict_leaf(&mut p, Q16::MAX, Q16::from_int(4), Q16::ONE, &mut rng, &b);
-        assert!(p.leaf[0] >= b.min_half && p.leaf[0] <= b.max_half);
-        assert!(p.leaf[2] >= b.min_half && p.leaf[2] <= b.max_half);
+        p.size = Size {
+            hx: Q16::MAX,
+            dhx: Q16::MAX,
+            hy: Q16::ZERO,
+            dhy: Q16::MIN,
+        };
+        predict_size(&mut p, Q16::MAX, Q16::from_int(4), Q16::ONE, &mut rng, &b);
+        assert!(p.size.hy >= b.min_half && p.size.hy <= b.max_half);
+        assert!(p.size.hx >= b.min_half && p.size.hx <= b.max_half);
     }
 }

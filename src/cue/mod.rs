@@ -45,10 +45,17 @@
 //! # Ok::<(), rbtrack::image::ImageError>(())
 //! ```
 
-use crate::fixed::Q16;
-use crate::hist::{isqrt32, sqrt_q8};
-use crate::image::{ImageView, PixelFormat};
+use crate::fixed::{isqrt32, sqrt_q8, Q16};
+use crate::image::{Crosses, ImageView, PixelFormat, CROSS_REACH};
 use crate::window::Ellipse;
+
+mod gradient;
+mod memo;
+
+use gradient::interior_gradient_sq;
+pub use gradient::{gradient, gradient_sq};
+use memo::Memoised;
+pub use memo::{GradientMemo, MEMO_SLOTS};
 
 /// Most boundary points per ellipse.
 pub const MAX_POINTS: usize = 64;
@@ -65,6 +72,10 @@ pub const DEFAULT_SATURATION: u32 = 192;
 
 /// Fraction bits of the per-point magnitude `m_k` (1/32).
 const MAG_FRAC_BITS: u32 = 5;
+
+/// Fraction bits of the mean's reciprocal ([`GradientCue`]'s `recip`): `2^48 / (K sat
+/// 2^5)`.
+const RECIP_FRAC_BITS: u32 = 48;
 
 /// Why [`GradientCue::new`] rejected a configuration: the name of the field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -108,6 +119,20 @@ impl GradientConfig {
             saturation: DEFAULT_SATURATION,
         }
     }
+
+    /// Checks every field against its range; the error names the first one out of it.
+    pub const fn check(&self) -> Result<(), ConfigError> {
+        if self.points < 1 || self.points > MAX_POINTS {
+            return Err(ConfigError::OutOfRange("points"));
+        }
+        if self.search_px > MAX_SEARCH_PX {
+            return Err(ConfigError::OutOfRange("search_px"));
+        }
+        if self.saturation < 1 || self.saturation > MAX_MAGNITUDE {
+            return Err(ConfigError::OutOfRange("saturation"));
+        }
+        Ok(())
+    }
 }
 
 impl Default for GradientConfig {
@@ -140,17 +165,10 @@ impl GradientCue {
         recip: 0,
     };
 
-    /// Checks `config` and tabulates the `K` angles (integer arithmetic).
+    /// Checks `config` ([`GradientConfig::check`]) and tabulates the `K` angles (integer
+    /// arithmetic).
     pub fn new(config: &GradientConfig) -> Result<Self, ConfigError> {
-        if !(1..=MAX_POINTS).contains(&config.points) {
-            return Err(ConfigError::OutOfRange("points"));
-        }
-        if config.search_px > MAX_SEARCH_PX {
-            return Err(ConfigError::OutOfRange("search_px"));
-        }
-        if !(1..=MAX_MAGNITUDE).contains(&config.saturation) {
-            return Err(ConfigError::OutOfRange("saturation"));
-        }
+        config.check()?;
         let mut cos = [Q16::ZERO; MAX_POINTS];
         let mut sin = [Q16::ZERO; MAX_POINTS];
         for (k, (c, s)) in cos.iter_mut().zip(sin.iter_mut()).enumerate() {
@@ -165,7 +183,7 @@ impl GradientCue {
             points: config.points,
             search: config.search_px as i32,
             saturation: config.saturation,
-            recip: (1u64 << 48) / den.max(32), // den >= 32
+            recip: (1u64 << RECIP_FRAC_BITS) / den.max(1 << MAG_FRAC_BITS), // den >= 2^5
         })
     }
 
@@ -200,10 +218,11 @@ impl GradientCue {
     /// clamping), per point a table square root and two 32-bit divisions for the unit
     /// normal and at most one table square root for the magnitude; no 64-bit division.
     pub fn evaluate<P: PixelFormat>(&self, img: &ImageView<'_, P>, e: &Ellipse) -> Q16 {
-        let mut sampler = Direct::<false>;
-        let taps = Taps::new(img);
-        let sum =
-            (0..self.points).fold(0, |sum, k| sum + self.point(img, &taps, e, k, &mut sampler));
+        let mut sampler = Direct;
+        let crosses = img.crosses();
+        let sum = (0..self.points).fold(0, |sum, k| {
+            sum + self.point(img, &crosses, e, k, &mut sampler)
+        });
         self.mean(sum)
     }
 
@@ -220,9 +239,10 @@ impl GradientCue {
             return self.evaluate(img, e);
         }
         let mut sampler = Memoised::new(memo, img);
-        let taps = Taps::new(img);
-        let sum =
-            (0..self.points).fold(0, |sum, k| sum + self.point(img, &taps, e, k, &mut sampler));
+        let crosses = img.crosses();
+        let sum = (0..self.points).fold(0, |sum, k| {
+            sum + self.point(img, &crosses, e, k, &mut sampler)
+        });
         self.mean(sum)
     }
 
@@ -242,12 +262,12 @@ impl GradientCue {
     ) {
         // The sums (< 2^22) accumulate in `out`, then become the means.
         out.iter_mut().for_each(|g| *g = Q16::ZERO);
-        let taps = Taps::new(img);
+        let crosses = img.crosses();
         if self.memo_serves(memo, img) {
             let mut sampler = Memoised::new(memo, img);
             for k in 0..self.points {
                 for (i, g) in out.iter_mut().enumerate() {
-                    let term = self.point(img, &taps, &ellipse(i), k, &mut sampler);
+                    let term = self.point(img, &crosses, &ellipse(i), k, &mut sampler);
                     *g = Q16::from_bits(g.to_bits().wrapping_add(term as i32));
                 }
             }
@@ -266,8 +286,9 @@ impl GradientCue {
     /// `sum <= K sat`, so `sum * recip <= 2^48`.
     #[inline(always)]
     fn mean(&self, sum: u32) -> Q16 {
-        let g = (sum as u64 * self.recip + (1 << 31)) >> 32;
-        Q16::from_bits(g.min(1 << 16) as i32)
+        let shift = RECIP_FRAC_BITS - Q16::FRAC_BITS;
+        let g = (sum as u64 * self.recip + (1 << (shift - 1))) >> shift;
+        Q16::from_bits(g.min(Q16::ONE.to_bits() as u64) as i32)
     }
 
     /// Boundary point `k`'s term of `e`'s cue, `min(m_k, saturation)` in 1/32 units (0
@@ -277,7 +298,7 @@ impl GradientCue {
     fn point<P: PixelFormat, S: Sampler<P>>(
         &self,
         img: &ImageView<'_, P>,
-        taps: &Taps<'_, P>,
+        crosses: &Crosses<'_, P>,
         e: &Ellipse,
         k: usize,
         sampler: &mut S,
@@ -285,6 +306,7 @@ impl GradientCue {
         if !e.is_visitable() {
             return 0;
         }
+        debug_assert!(k < self.points, "boundary point {k} of {}", self.points);
         let (Some(&c), Some(&s)) = (self.cos.get(k), self.sin.get(k)) else {
             return 0;
         };
@@ -292,17 +314,19 @@ impl GradientCue {
         let (hx, hy) = (e.hx.to_bits(), e.hy.to_bits()); // 2^15..2^31
         let (w, h) = (img.width() as i32, img.height() as i32); // <= MAX_SIDE < 2^14
         let search = self.search;
+        let frac = Q16::FRAC_BITS;
         // Beyond the search segment, px Q16.
-        let reach = (search + 1) << 16;
+        let reach = (search + 1) << frac;
         // The offsets h c / 2^16 lie in [-h, h], h < 2^31.
-        let offset = |h: i32, c: i32| ((h as i64 * c as i64) >> 16) as i32;
+        let offset = |h: i32, c: i32| ((h as i64 * c as i64) >> frac) as i32;
         // Every search position lies within `reach` of the box `c +- h` (|offset| <= h, the
         // normal's components are at most 1), so a window whose box so widened has only
         // interior pixels needs no test per point (the usual case, checked in 32 bits).
         let (cx, cy) = (e.cx.to_bits(), e.cy.to_bits());
+        let taps = (CROSS_REACH as i32) << frac; // a cross's reach, px Q16
         let inside = |c: i32, h: i32, side: i32| {
             let margin = h.saturating_add(reach);
-            c.saturating_sub(margin) >= 2 << 16 && c.saturating_add(margin) < (side - 2) << 16
+            c.saturating_sub(margin) >= taps && c.saturating_add(margin) < (side << frac) - taps
         };
         let interior = inside(cx, hx, w) && inside(cy, hy, h);
         let (bx, by) = if interior {
@@ -316,25 +340,28 @@ impl GradientCue {
             };
             // A segment wholly outside the frame has no sample in it (and this keeps the
             // positions below in i32).
-            if bx < -reach || by < -reach || bx >= (w << 16) + reach || by >= (h << 16) + reach {
+            let (right, bottom) = ((w << frac) + reach, (h << frac) + reach);
+            if bx < -reach || by < -reach || bx >= right || by >= bottom {
                 return 0;
             }
             (bx, by)
         };
         // The normal at angle t is along (cos t / hx, sin t / hy) ~ (cos t hy, sin t hx).
         let (ux, uy) = unit_normal(c, s, hx, hy);
-        let at = |j: i32| ((bx + j * ux + 0x8000) >> 16, (by + j * uy + 0x8000) >> 16);
+        // The nearest pixel, halves rounded up.
+        let half = Q16::HALF.to_bits();
+        let at = |j: i32| ((bx + j * ux + half) >> frac, (by + j * uy + half) >> frac);
         // Positions are monotone in j, so the two ends bound the segment.
         let ends_interior = || {
             let ((x0, y0), (x1, y1)) = (at(-search), at(search));
-            taps.interior(x0.min(x1), y0.min(y1)) && taps.interior(x0.max(x1), y0.max(y1))
+            crosses.inside(x0.min(x1), y0.min(y1)) && crosses.inside(x0.max(x1), y0.max(y1))
         };
         let mut best = 0u32;
         // (Half-open ranges: an inclusive one tests its exhaustion flag every step.)
         if interior || ends_interior() {
             for j in -search..search + 1 {
                 let (x, y) = at(j);
-                best = best.max(sampler.interior(taps, x, y));
+                best = best.max(sampler.interior(crosses, x, y));
             }
         } else {
             for j in -search..search + 1 {
@@ -357,187 +384,23 @@ impl GradientCue {
 
 /// Where [`GradientCue`] gets a squared gradient magnitude at an in-frame pixel.
 trait Sampler<P: PixelFormat> {
-    /// At `(x, y)`, all of whose taps are inside the frame ([`Taps::interior`]).
-    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32;
+    /// At `(x, y)`, whose cross of taps lies in the frame ([`Crosses::inside`]).
+    fn interior(&mut self, crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32;
     /// At `(x, y)` in the frame, taps clamped.
     fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32;
 }
 
-/// Computes every gradient; `CLAMPED` also the interior ones through the clamping path
-/// (the tests compare the two).
-struct Direct<const CLAMPED: bool>;
+/// Computes every gradient.
+struct Direct;
 
-impl<P: PixelFormat, const CLAMPED: bool> Sampler<P> for Direct<CLAMPED> {
+impl<P: PixelFormat> Sampler<P> for Direct {
     #[inline(always)]
-    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
-        if CLAMPED {
-            return gradient_sq(&taps.img, x, y);
-        }
-        taps.gradient_sq(x as usize, y as usize)
+    fn interior(&mut self, crosses: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
+        interior_gradient_sq(crosses, x, y)
     }
     #[inline(always)]
     fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
         gradient_sq(img, x, y)
-    }
-}
-
-/// Slots of a [`GradientMemo`].
-pub const MEMO_SLOTS: usize = 1024;
-
-/// A per-frame memo of squared gradient magnitudes for [`GradientCue::evaluate_memo`] and
-/// [`GradientCue::evaluate_each`]: [`MEMO_SLOTS`] direct-mapped slots keyed by pixel
-/// (slot `(x + 32 y) mod 1024`: any 32 x 32 block of pixels, such as the samples of one
-/// boundary point across a particle cloud, maps to distinct slots), each holding the
-/// pixel's index in the frame tagged with an 8-bit frame generation and
-/// `min(gx^2 + gy^2, 65535)` (exact for the cue whenever the saturation is at most 255,
-/// whose square fits: larger squares all score the saturation). A look-up is a hash, a
-/// load and a compare; a miss computes the gradient and replaces the slot's entry. Values
-/// are only ever read back for the same pixel of the same generation, so results never
-/// depend on the memo. 6 KiB; frames of `2^24` pixels or more, and saturations above 255,
-/// bypass it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GradientMemo {
-    /// `generation << 24 | (y width + x)`; never matches while the slot is empty (tags
-    /// start at generation 1).
-    keys: [u32; MEMO_SLOTS],
-    values: [u16; MEMO_SLOTS],
-    /// The current generation in the top 8 bits (`1..=255`).
-    tag: u32,
-}
-
-#[cfg(feature = "defmt")]
-impl defmt::Format for GradientMemo {
-    fn format(&self, f: defmt::Formatter) {
-        defmt::write!(f, "GradientMemo {{ generation: {} }}", self.tag >> 24)
-    }
-}
-
-impl Default for GradientMemo {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl GradientMemo {
-    /// An empty memo.
-    pub const fn new() -> Self {
-        Self {
-            keys: [0; MEMO_SLOTS],
-            values: [0; MEMO_SLOTS],
-            tag: 1 << 24,
-        }
-    }
-
-    /// Every bit zero: a memo that holds nothing valid until [`GradientMemo::clear`] (an
-    /// unstarted tracker's, so that the tracker can sit in `.bss`).
-    pub(crate) const UNSTARTED: Self = Self {
-        keys: [0; MEMO_SLOTS],
-        values: [0; MEMO_SLOTS],
-        tag: 0,
-    };
-
-    /// Empties the memo in place: what [`GradientMemo::new`] gives.
-    pub fn clear(&mut self) {
-        self.keys.fill(0);
-        self.values.fill(0);
-        self.tag = 1 << 24;
-    }
-
-    /// Forgets every entry (in constant time, by moving to the next generation; every
-    /// 255 frames the slots are cleared). Call it whenever the frame changes.
-    pub fn start_frame(&mut self) {
-        self.tag = self.tag.wrapping_add(1 << 24);
-        if self.tag == 0 {
-            self.keys = [0; MEMO_SLOTS];
-            self.tag = 1 << 24;
-        }
-    }
-
-    /// Whether frames of this size fit the 24-bit pixel index.
-    fn serves<P: PixelFormat>(&self, img: &ImageView<'_, P>) -> bool {
-        img.width() * img.height() < 1 << 24
-    }
-}
-
-impl GradientCue {
-    /// Whether `memo` can serve this cue on `img` (frame below `2^24` pixels, saturation
-    /// squared below `2^16`).
-    fn memo_serves<P: PixelFormat>(&self, memo: &GradientMemo, img: &ImageView<'_, P>) -> bool {
-        memo.serves(img) && self.saturation <= 255
-    }
-}
-
-/// Reads gradients through a [`GradientMemo`].
-struct Memoised<'m> {
-    memo: &'m mut GradientMemo,
-    width: u32,
-}
-
-impl<'m> Memoised<'m> {
-    fn new<P: PixelFormat>(memo: &'m mut GradientMemo, img: &ImageView<'_, P>) -> Self {
-        Self {
-            memo,
-            width: img.width() as u32,
-        }
-    }
-
-    /// The slot of in-frame pixel `(x, y)` and its key.
-    #[inline(always)]
-    fn slot(&self, x: i32, y: i32) -> (usize, u32) {
-        let (x, y) = (x as u32, y as u32);
-        // y width + x < 2^24 for the frames the memo serves: no bit reaches the tag.
-        let key = self.memo.tag | y.wrapping_mul(self.width).wrapping_add(x);
-        let slot = (x.wrapping_add(y << 5) as usize) & (MEMO_SLOTS - 1);
-        (slot, key)
-    }
-
-    /// The memo's value in `slot` if it is `key`'s.
-    #[inline(always)]
-    fn hit(&self, slot: usize, key: u32) -> Option<u32> {
-        let slot = slot & (MEMO_SLOTS - 1);
-        (self.memo.keys[slot] == key).then(|| self.memo.values[slot] as u32)
-    }
-
-    /// Stores `value`, saturated to 16 bits, for `key` in `slot`; returns the stored value.
-    #[inline(always)]
-    fn store(&mut self, slot: usize, key: u32, value: u32) -> u32 {
-        let slot = slot & (MEMO_SLOTS - 1);
-        let value = value.min(u16::MAX as u32);
-        self.memo.keys[slot] = key;
-        self.memo.values[slot] = value as u16;
-        value
-    }
-}
-
-/// `taps.gradient_sq(x, y)` out of line: the memo's miss path, kept out of the look-up
-/// loop so that its registers stay free.
-#[inline(never)]
-fn interior_miss<P: PixelFormat>(taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
-    taps.gradient_sq(x as usize, y as usize)
-}
-
-/// [`gradient_sq`] out of line (the memo's miss path at the frame border).
-#[inline(never)]
-fn clamped_miss<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-    gradient_sq(img, x, y)
-}
-
-impl<P: PixelFormat> Sampler<P> for Memoised<'_> {
-    #[inline(always)]
-    fn interior(&mut self, taps: &Taps<'_, P>, x: i32, y: i32) -> u32 {
-        let (slot, key) = self.slot(x, y);
-        match self.hit(slot, key) {
-            Some(value) => value,
-            None => self.store(slot, key, interior_miss(taps, x, y)),
-        }
-    }
-    #[inline(always)]
-    fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-        let (slot, key) = self.slot(x, y);
-        match self.hit(slot, key) {
-            Some(value) => value,
-            None => self.store(slot, key, clamped_miss(img, x, y)),
-        }
     }
 }
 
@@ -568,99 +431,10 @@ fn unit_normal(c: i32, s: i32, hx: i32, hy: i32) -> (i32, i32) {
     // len >= 2^15, so a 2^16 + len / 2 < 2^32 - 2^16 + 2^15.6: no overflow; the quotient
     // is <= 2^16 + 1.
     let len = ((sqrt_q8(((ax * ax) >> 2) + ((ay * ay) >> 2)) + 64) >> 7).max(1);
-    let unit = |a: u32| (((a << 16) + len / 2) / len).min(1 << 16) as i32;
+    let one = Q16::ONE.to_bits() as u32;
+    let unit = |a: u32| (((a << Q16::FRAC_BITS) + len / 2) / len).min(one) as i32;
     let (ux, uy) = (unit(ax), unit(ay));
     (if c < 0 { -ux } else { ux }, if s < 0 { -uy } else { uy })
-}
-
-/// Unclamped 5-tap gradients of a frame's interior.
-struct Taps<'a, P: PixelFormat> {
-    img: ImageView<'a, P>,
-    bytes: &'a [u8],
-    row: usize,
-    width: i32,
-    height: i32,
-    format: core::marker::PhantomData<P>,
-}
-
-impl<'a, P: PixelFormat> Taps<'a, P> {
-    fn new(img: &ImageView<'a, P>) -> Self {
-        Self {
-            img: *img,
-            bytes: img.as_bytes(),
-            row: img.stride() * P::BYTES_PER_PIXEL,
-            width: img.width() as i32,
-            height: img.height() as i32,
-            format: core::marker::PhantomData,
-        }
-    }
-
-    /// Whether all taps of `(x, y)` are inside the frame.
-    #[inline(always)]
-    fn interior(&self, x: i32, y: i32) -> bool {
-        x >= 2 && x + 2 < self.width && y >= 2 && y + 2 < self.height
-    }
-
-    /// `(gx, gy)` at an [`Taps::interior`] pixel, reading the 8 taps at their byte
-    /// offsets in the frame (the invariants of `ImageView::new` keep every row's pixels in
-    /// the buffer, and the reads are checked regardless): the same bytes as the clamped
-    /// taps, without clamping or slicing each one.
-    #[inline(always)]
-    fn gradient(&self, x: usize, y: usize) -> (i32, i32) {
-        let (px, row) = (P::BYTES_PER_PIXEL, self.row);
-        let i = y.wrapping_mul(row).wrapping_add(x.wrapping_mul(px));
-        let l = |bytes: &[u8], index: usize| P::luma_at_byte(bytes, index) as i32;
-        // The five pixels of the centre row in one slice of known length.
-        let gx = match self
-            .bytes
-            .get(i.wrapping_sub(2 * px)..i.wrapping_add(3 * px))
-        {
-            Some(r) => l(r, 4 * px) + 2 * l(r, 3 * px) - 2 * l(r, px) - l(r, 0),
-            None => 0,
-        };
-        let gy = match self
-            .bytes
-            .get(i.wrapping_sub(2 * row)..i.wrapping_add(2 * row + px))
-        {
-            Some(c) => l(c, 4 * row) + 2 * l(c, 3 * row) - 2 * l(c, row) - l(c, 0),
-            None => 0,
-        };
-        (gx, gy)
-    }
-
-    /// `gx^2 + gy^2` at an [`Taps::interior`] pixel.
-    #[inline(always)]
-    fn gradient_sq(&self, x: usize, y: usize) -> u32 {
-        let (gx, gy) = self.gradient(x, y);
-        (gx * gx + gy * gy) as u32
-    }
-}
-
-/// The 5-tap gradient `(gx, gy)` at `(x, y)` (px; clamped into the frame first), taps
-/// clamped into the frame; each component in `-765..=765`.
-#[inline]
-pub fn gradient<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> (i32, i32) {
-    let (xc, yc) = img.clamp(x, y);
-    let (x, y) = (xc as i32, yc as i32); // <= MAX_SIDE: the taps cannot overflow
-    let taps = Taps::new(img);
-    if taps.interior(x, y) {
-        return taps.gradient(xc, yc);
-    }
-    let row = img.row(yc);
-    let col = |dx: i32| img.clamp(x + dx, y).0;
-    let gx = row.luma(col(2)) as i32 + 2 * row.luma(col(1)) as i32
-        - 2 * row.luma(col(-1)) as i32
-        - row.luma(col(-2)) as i32;
-    let at = |dy: i32| img.row(img.clamp(x, y + dy).1).luma(xc) as i32;
-    let gy = at(2) + 2 * at(1) - 2 * at(-1) - at(-2);
-    (gx, gy)
-}
-
-/// Squared gradient magnitude `gx^2 + gy^2` at `(x, y)` (px), `0..=2 * 765^2`.
-#[inline]
-pub fn gradient_sq<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
-    let (gx, gy) = gradient(img, x, y);
-    (gx * gx + gy * gy) as u32
 }
 
 #[cfg(test)]
@@ -669,15 +443,6 @@ mod tests {
     use crate::image::{Gray8, Rgb565Le, Rgb888, Yuv422};
     use std::vec;
     use std::vec::Vec;
-
-    fn ellipse(cx: f64, cy: f64, hx: f64, hy: f64) -> Ellipse {
-        Ellipse::new(
-            Q16::from_f64(cx),
-            Q16::from_f64(cy),
-            Q16::from_f64(hx),
-            Q16::from_f64(hy),
-        )
-    }
 
     fn cue() -> GradientCue {
         GradientCue::new(&GradientConfig::new()).unwrap()
@@ -725,55 +490,36 @@ mod tests {
     }
 
     #[test]
-    fn operator_on_a_ramp_and_a_step() {
-        // Horizontal ramp I = 10 x: gx = 10 (2 + 2 + 2 + 2) = 80, gy = 0.
-        let buf: Vec<u8> = (0..10 * 5).map(|i| (10 * (i % 10)) as u8).collect();
-        let img = ImageView::<Gray8>::new(&buf, 10, 5, 10).unwrap();
-        assert_eq!(gradient(&img, 5, 2), (80, 0));
-        // At the left border taps clamp: I(-1) = I(-2) = I(0) = 0 -> gx = 20 + 20 = 40.
-        assert_eq!(gradient(&img, 0, 2), (40, 0));
-        assert_eq!(gradient(&img, 9, 0), (40, 0));
-        assert_eq!(gradient_sq(&img, 5, 2), 6400);
-        // Coordinates far outside clamp, never panic.
-        assert_eq!(gradient(&img, i32::MAX, i32::MIN), (40, 0));
-        // Saturated step, 0 -> 255 between rows 2 and 3: gy = 3 * 255 at rows 2 and 3.
-        let buf: Vec<u8> = (0..6 * 6)
-            .map(|i| if i / 6 >= 3 { 255 } else { 0 })
-            .collect();
-        let img = ImageView::<Gray8>::new(&buf, 6, 6, 6).unwrap();
-        assert_eq!(gradient(&img, 2, 2), (0, 765));
-        assert_eq!(gradient(&img, 2, 3), (0, 765));
-        assert_eq!(gradient(&img, 2, 1), (0, 255));
-    }
-
-    #[test]
     fn flat_frame_and_degenerate_windows_give_zero() {
         let buf = vec![255u8; 30 * 30];
         let img = ImageView::<Gray8>::new(&buf, 30, 30, 30).unwrap();
         assert_eq!(
-            cue().evaluate(&img, &ellipse(15.0, 15.0, 8.0, 5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(15.0, 15.0, 8.0, 5.0)),
             Q16::ZERO
         );
         let one = ImageView::<Gray8>::new(&[7], 1, 1, 1).unwrap();
         assert_eq!(
-            cue().evaluate(&one, &ellipse(0.0, 0.0, 3.0, 3.0)),
+            cue().evaluate(&one, &Ellipse::from_f64(0.0, 0.0, 3.0, 3.0)),
             Q16::ZERO
         );
         assert_eq!(
-            cue().evaluate(&img, &ellipse(15.0, 15.0, 0.0, 5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(15.0, 15.0, 0.0, 5.0)),
             Q16::ZERO
         );
         assert_eq!(
-            cue().evaluate(&img, &ellipse(15.0, 15.0, -4.0, -5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(15.0, 15.0, -4.0, -5.0)),
             Q16::ZERO
         );
         // Wholly outside: no sample in the frame.
         assert_eq!(
-            cue().evaluate(&img, &ellipse(-100.0, 15.0, 8.0, 5.0)),
+            cue().evaluate(&img, &Ellipse::from_f64(-100.0, 15.0, 8.0, 5.0)),
             Q16::ZERO
         );
         assert_eq!(
-            cue().evaluate(&img, &ellipse(-32_768.0, 32_767.0, 32_767.0, 32_767.0)),
+            cue().evaluate(
+                &img,
+                &Ellipse::from_f64(-32_768.0, 32_767.0, 32_767.0, 32_767.0)
+            ),
             Q16::ZERO
         );
     }
@@ -796,19 +542,25 @@ mod tests {
         let buf = disc_frame(80, 60, 40.0, 30.0, 20.0, 10.0, 60);
         let img = ImageView::<Gray8>::new(&buf, 80, 60, 80).unwrap();
         let c = cue();
-        let on = c.evaluate(&img, &ellipse(40.0, 30.0, 20.0, 10.0)).to_f64();
+        let on = c
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 20.0, 10.0))
+            .to_f64();
         // A 60-level step gives 180 of 192 on the axes, a little less on the diagonals.
         assert!(on > 0.85 && on <= 1.0, "{on}");
-        let off = c.evaluate(&img, &ellipse(40.0, 30.0, 10.0, 3.0)).to_f64();
+        let off = c
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 10.0, 3.0))
+            .to_f64();
         assert!(off < 0.05, "{off}");
-        let shifted = c.evaluate(&img, &ellipse(40.0, 30.0, 22.5, 11.5)).to_f64();
+        let shifted = c
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 22.5, 11.5))
+            .to_f64();
         assert!(shifted > 0.8, "search finds the edge: {shifted}");
         // A saturation above the step scales the cue down in proportion.
         let mut cfg = GradientConfig::new();
         cfg.saturation = 360;
         let half = GradientCue::new(&cfg)
             .unwrap()
-            .evaluate(&img, &ellipse(40.0, 30.0, 20.0, 10.0));
+            .evaluate(&img, &Ellipse::from_f64(40.0, 30.0, 20.0, 10.0));
         assert!(half.to_f64() < 0.7 && half.to_f64() > 0.5, "{half}");
     }
 
@@ -817,41 +569,22 @@ mod tests {
         let buf = disc_frame(40, 40, 0.0, 20.0, 10.0, 10.0, 255);
         let img = ImageView::<Gray8>::new(&buf, 40, 40, 40).unwrap();
         let g = cue()
-            .evaluate(&img, &ellipse(0.0, 20.0, 10.0, 10.0))
+            .evaluate(&img, &Ellipse::from_f64(0.0, 20.0, 10.0, 10.0))
             .to_f64();
         // About half of the boundary is inside the frame.
         assert!(g > 0.35 && g < 0.65, "{g}");
     }
 
-    /// The gradient with every tap read through the clamping accessor.
-    fn clamped_gradient<P: PixelFormat>(img: &ImageView<'_, P>, x: i32, y: i32) -> (i32, i32) {
-        let (xc, yc) = img.clamp(x, y);
-        let (x, y) = (xc as i32, yc as i32);
-        let l = |dx: i32, dy: i32| img.luma(x + dx, y + dy) as i32;
-        (
-            l(2, 0) + 2 * l(1, 0) - 2 * l(-1, 0) - l(-2, 0),
-            l(0, 2) + 2 * l(0, 1) - 2 * l(0, -1) - l(0, -2),
-        )
-    }
+    /// Reads every gradient of its frame, interior ones included, through the clamping
+    /// path.
+    struct Clamped<'a, P: PixelFormat>(ImageView<'a, P>);
 
-    fn interior_and_border_agree<P: PixelFormat>(bytes_per_px: usize) {
-        let mut rng = crate::rng::Rng::new(5);
-        for (w, h, stride) in [(1, 1, 1), (4, 3, 4), (5, 5, 6), (12, 9, 16), (31, 7, 32)] {
-            let buf: Vec<u8> = (0..stride * h * bytes_per_px)
-                .map(|_| rng.below(256) as u8)
-                .collect();
-            let Ok(img) = ImageView::<P>::new(&buf, w, h, stride) else {
-                continue; // odd YUYV sizes
-            };
-            for y in -3..h as i32 + 3 {
-                for x in -3..w as i32 + 3 {
-                    assert_eq!(
-                        gradient(&img, x, y),
-                        clamped_gradient(&img, x, y),
-                        "{w}x{h} stride {stride} at ({x}, {y})"
-                    );
-                }
-            }
+    impl<P: PixelFormat> Sampler<P> for Clamped<'_, P> {
+        fn interior(&mut self, _: &Crosses<'_, P>, x: i32, y: i32) -> u32 {
+            gradient_sq(&self.0, x, y)
+        }
+        fn clamped(&mut self, img: &ImageView<'_, P>, x: i32, y: i32) -> u32 {
+            gradient_sq(img, x, y)
         }
     }
 
@@ -868,16 +601,17 @@ mod tests {
             config.points = 1 + rng.below(MAX_POINTS as u32) as usize;
             config.search_px = rng.below(8);
             let c = GradientCue::new(&config).unwrap();
-            let e = ellipse(
+            let e = Ellipse::from_f64(
                 rng.below(90) as f64 - 15.0 + rng.uniform().to_f64(),
                 rng.below(80) as f64 - 15.0 + rng.uniform().to_f64(),
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
                 0.5 + rng.below(40) as f64 * rng.uniform().to_f64(),
             );
-            let mut clamped = Direct::<true>;
-            let taps = Taps::new(&img);
-            let sum =
-                (0..c.points).fold(0, |sum, k| sum + c.point(&img, &taps, &e, k, &mut clamped));
+            let mut clamped = Clamped(img);
+            let crosses = img.crosses();
+            let sum = (0..c.points).fold(0, |sum, k| {
+                sum + c.point(&img, &crosses, &e, k, &mut clamped)
+            });
             assert_eq!(c.evaluate(&img, &e), c.mean(sum), "window {i}: {e:?}");
         }
     }
@@ -907,7 +641,7 @@ mod tests {
             let (cx, cy) = (rng.below(70) as f64 - 3.0, rng.below(55) as f64 - 3.0);
             let windows: Vec<Ellipse> = (0..12)
                 .map(|_| {
-                    ellipse(
+                    Ellipse::from_f64(
                         cx + 6.0 * rng.uniform().to_f64() - 3.0,
                         cy + 6.0 * rng.uniform().to_f64() - 3.0,
                         0.4 + 15.0 * rng.uniform().to_f64(),
@@ -926,15 +660,6 @@ mod tests {
     }
 
     #[test]
-    fn interior_fast_path_reads_the_clamped_taps() {
-        interior_and_border_agree::<Gray8>(1);
-        interior_and_border_agree::<Rgb888>(3);
-        interior_and_border_agree::<Rgb565Le>(2);
-        interior_and_border_agree::<crate::image::Rgb565Be>(2);
-        interior_and_border_agree::<Yuv422>(2);
-    }
-
-    #[test]
     fn every_format_sees_the_same_edges() {
         let gray = disc_frame(32, 24, 16.0, 12.0, 9.0, 6.0, 255);
         let rgb: Vec<u8> = gray.iter().flat_map(|&v| [v, v, v]).collect();
@@ -943,7 +668,7 @@ mod tests {
             .flat_map(|&v| if v > 0 { [0xFF, 0xFF] } else { [0, 0] })
             .collect();
         let yuv: Vec<u8> = gray.iter().flat_map(|&v| [v, 128]).collect();
-        let e = ellipse(16.0, 12.0, 9.0, 6.0);
+        let e = Ellipse::from_f64(16.0, 12.0, 9.0, 6.0);
         let c = cue();
         let g = c.evaluate(&ImageView::<Gray8>::new(&gray, 32, 24, 32).unwrap(), &e);
         assert!(g > Q16::from_f64(0.9));

@@ -1,5 +1,6 @@
-//! Q16.16 fixed point: the number type of every coordinate, velocity, half-axis and
-//! covariance in the per-frame path.
+//! Fixed-point arithmetic: the Q16.16 number type of every coordinate, velocity, half-axis
+//! and covariance in the per-frame path, and the integer division and square roots it
+//! takes.
 //!
 //! [`Q16`] wraps an `i32` holding `value * 65536`, so it spans
 //! `[-32768, 32768 - 2^-16]` with a resolution of `2^-16` (about `1.5e-5`).
@@ -21,6 +22,15 @@
 
 use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 
+mod div;
+mod sqrt;
+
+pub use div::div_u64_u32;
+pub use sqrt::{isqrt32, sqrt_q8, SQRT_FRAC_BITS};
+
+/// `2^16`, a [`Q16`]'s raw value per unit, as a float (for the float conversions).
+const SCALE: f64 = (1u32 << Q16::FRAC_BITS) as f64;
+
 /// Signed Q16.16 fixed-point number (`i32`, 16 fraction bits), saturating arithmetic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -33,9 +43,9 @@ impl Q16 {
     /// 0.
     pub const ZERO: Self = Self(0);
     /// 1.
-    pub const ONE: Self = Self(1 << 16);
+    pub const ONE: Self = Self(1 << Self::FRAC_BITS);
     /// 0.5.
-    pub const HALF: Self = Self(1 << 15);
+    pub const HALF: Self = Self(1 << (Self::FRAC_BITS - 1));
     /// Largest value, `32768 - 2^-16`.
     pub const MAX: Self = Self(i32::MAX);
     /// Smallest value, `-32768`.
@@ -58,7 +68,7 @@ impl Q16 {
     /// From an integer, saturating outside `[-32768, 32767]`.
     #[inline]
     pub const fn from_int(n: i32) -> Self {
-        Self::saturate(n as i64 * 65536)
+        Self::saturate((n as i64) << Self::FRAC_BITS)
     }
 
     /// `num / den` rounded toward zero, saturating; `den == 0` gives [`Q16::ZERO`].
@@ -67,7 +77,7 @@ impl Q16 {
         if den == 0 {
             return Self::ZERO;
         }
-        let wide = (num as i128 * 65536) / den as i128;
+        let wide = ((num as i128) << Self::FRAC_BITS) / den as i128;
         if wide > i32::MAX as i128 {
             Self::MAX
         } else if wide < i32::MIN as i128 {
@@ -82,13 +92,13 @@ impl Q16 {
     #[inline]
     pub fn from_f64(v: f64) -> Self {
         // `as` saturates and maps NaN to 0.
-        Self(libm::round(v * 65536.0) as i32)
+        Self(libm::round(v * SCALE) as i32)
     }
 
     /// To a float, exactly (for reports, tests and configuration-time tables).
     #[inline]
     pub fn to_f64(self) -> f64 {
-        self.0 as f64 / 65536.0
+        self.0 as f64 / SCALE
     }
 
     /// Saturates an `i64` raw value to the `i32` range.
@@ -106,13 +116,13 @@ impl Q16 {
     /// Largest integer not above `self`.
     #[inline]
     pub const fn floor_int(self) -> i32 {
-        self.0 >> 16
+        self.0 >> Self::FRAC_BITS
     }
 
     /// Nearest integer, halves rounded up.
     #[inline]
     pub const fn round_int(self) -> i32 {
-        ((self.0 as i64 + 0x8000) >> 16) as i32
+        ((self.0 as i64 + Self::HALF.0 as i64) >> Self::FRAC_BITS) as i32
     }
 
     /// Saturating addition.
@@ -130,7 +140,7 @@ impl Q16 {
     /// Saturating product, rounded to nearest.
     #[inline]
     pub const fn saturating_mul(self, rhs: Self) -> Self {
-        Self::saturate((self.0 as i64 * rhs.0 as i64 + 0x8000) >> 16)
+        Self::saturate((self.0 as i64 * rhs.0 as i64 + Self::HALF.0 as i64) >> Self::FRAC_BITS)
     }
 
     /// Saturating quotient, rounded toward zero; division by zero saturates toward the
@@ -146,7 +156,7 @@ impl Q16 {
                 Self::ZERO
             };
         }
-        Self::saturate(((self.0 as i64) << 16) / rhs.0 as i64)
+        Self::saturate(((self.0 as i64) << Self::FRAC_BITS) / rhs.0 as i64)
     }
 
     /// Product with an integer, saturating.
@@ -167,8 +177,8 @@ impl Q16 {
         if self.0 <= 0 {
             return Self::ZERO;
         }
-        // sqrt(v * 2^16) * 2^8 = sqrt(v * 2^32) = sqrt(v) * 2^16
-        Self(((self.0 as u64) << 16).isqrt() as i32)
+        // sqrt(v 2^16) 2^8 = sqrt(v 2^32) = sqrt(v) 2^16
+        Self(((self.0 as u64) << Self::FRAC_BITS).isqrt() as i32)
     }
 
     /// The smaller of two values.
@@ -257,8 +267,9 @@ impl core::fmt::Display for Q16 {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let neg = self.0 < 0;
         let mag = (self.0 as i64).unsigned_abs();
-        let int = mag >> 16;
-        let frac = ((mag & 0xFFFF) * 10_000 + 0x8000) >> 16;
+        let (one, half) = (Self::ONE.0 as u64, Self::HALF.0 as u64);
+        let int = mag >> Self::FRAC_BITS;
+        let frac = ((mag & (one - 1)) * 10_000 + half) >> Self::FRAC_BITS;
         let (int, frac) = if frac == 10_000 {
             (int + 1, 0)
         } else {
@@ -268,81 +279,9 @@ impl core::fmt::Display for Q16 {
     }
 }
 
-/// `n / d` rounded down (0 for `d = 0`), exactly, with 32-bit divisions only: the
-/// Cortex-M4 divides 32 by 32 bits in one instruction, where a 64-bit division is a
-/// library call of about a hundred. The high word takes one division, the low word two
-/// 16-bit quotient digits, each estimated by one division and corrected (Knuth's
-/// algorithm D, as `divlu` in Hacker's Delight, 2nd ed., 9-3). Not inlined: its callers
-/// are themselves inlined into every histogram fill, and one copy serves them all.
-#[inline(never)]
-pub fn div_u64_u32(n: u64, d: u32) -> u64 {
-    let (hi, lo) = ((n >> 32) as u32, n as u32);
-    let (Some(q_hi), Some(r)) = (hi.checked_div(d), hi.checked_rem(d)) else {
-        return 0;
-    };
-    // (r 2^32 + lo) / d with r < d: a 32-bit quotient. Normalise d to its top bit.
-    let s = d.leading_zeros();
-    let v = d << s;
-    let (v1, v0) = (v >> 16, v & 0xFFFF); // v1 >= 2^15
-    let top = (r << s) | (lo >> 1 >> (31 - s)); // the top 32 bits of (r : lo) << s
-    let u10 = lo << s;
-    // One 16-bit digit of (u 2^16 + next) / v from u < v: estimated from the top
-    // halves, then lowered at most twice.
-    let digit = |u: u32, next: u32| {
-        let mut q = u.checked_div(v1).unwrap_or(0);
-        let mut rhat = u - q * v1;
-        while q >= 1 << 16 || q * v0 > (rhat << 16 | next) {
-            q -= 1;
-            rhat += v1;
-            if rhat >= 1 << 16 {
-                break;
-            }
-        }
-        // The remainder, below v.
-        let rem = (u << 16 | next).wrapping_sub(q.wrapping_mul(v));
-        (q, rem)
-    };
-    let (q1, rem) = digit(top, u10 >> 16);
-    let (q0, _) = digit(rem, u10 & 0xFFFF);
-    (q_hi as u64) << 32 | (q1 << 16 | q0) as u64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn div_u64_u32_is_exact() {
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
-        for i in 0..2_000_000u32 {
-            let n = next() >> (i % 64);
-            let d = (next() >> (32 + (i / 64) % 32)) as u32;
-            let want = if d == 0 { 0 } else { n / d as u64 };
-            assert_eq!(div_u64_u32(n, d), want, "{n} / {d}");
-        }
-        for (n, d) in [
-            (u64::MAX, 1),
-            (u64::MAX, u32::MAX),
-            (u64::MAX, 0x8000_0000),
-            (u64::MAX, 0x8000_0001),
-            (1 << 62, 1 << 15),
-            (1 << 62, (1 << 31) + 1),
-            ((1 << 32) - 1, 1 << 16),
-            (0xFFFF_FFFF_0000_0000, 0xFFFF_FFFF),
-            (0x7FFF_8000_0000_0000, 0x8000_FFFF),
-            (0, 7),
-            (5, 0),
-        ] {
-            let want = if d == 0 { 0 } else { n / d as u64 };
-            assert_eq!(div_u64_u32(n, d), want, "{n} / {d}");
-        }
-    }
 
     #[test]
     fn conversions_round_trip() {

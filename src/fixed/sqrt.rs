@@ -1,0 +1,99 @@
+//! Integer square roots by table: [`sqrt_q8`] to 1/256 and the exact [`isqrt32`], with no
+//! division and no bit-by-bit loop.
+
+/// Fraction bits of [`sqrt_q8`]'s result (Q24.8).
+pub const SQRT_FRAC_BITS: u32 = 8;
+
+/// Bits of the linear interpolation between two table entries.
+const INTERPOLATION_BITS: u32 = 16;
+
+/// `floor(sqrt(64 + i) * 2^20)` for `i` in `0..=192`: square roots of `[64, 256]`.
+const SQRT_TABLE: [u32; 193] = {
+    let mut t = [0u32; 193];
+    let mut i = 0;
+    while i < 193 {
+        t[i] = ((64 + i as u64) << 40).isqrt() as u32;
+        i += 1;
+    }
+    t
+};
+
+/// `sqrt(n) * 256` (Q24.8), rounded down within a relative error of 8e-6 plus 1 unit:
+/// `n` is shifted left by an even amount into `[2^30, 2^32)`, its top 8 bits index
+/// a table of `sqrt(64..=256)` and the next 16 interpolate linearly. No division, no loop.
+#[inline]
+pub fn sqrt_q8(n: u32) -> u32 {
+    if n == 0 {
+        return 0;
+    }
+    let shift = n.leading_zeros() & !1; // even, 0..=30
+    let m = n << shift; // [2^30, 2^32)
+    let i = (m >> 24) as usize - 64; // 0..=191
+    let frac = (m >> 8) & ((1 << INTERPOLATION_BITS) - 1);
+    let (lo, hi) = match (SQRT_TABLE.get(i), SQRT_TABLE.get(i + 1)) {
+        (Some(&lo), Some(&hi)) => (lo, hi),
+        _ => return 0,
+    };
+    // hi - lo <= 65231 (at i = 0), so the product stays below 2^32.
+    (lo + (((hi - lo) * frac) >> INTERPOLATION_BITS)) >> (shift / 2)
+}
+
+/// `floor(sqrt(n))`, exactly, for any `n < 2^31`: [`sqrt_q8`] (never above the exact
+/// root, at most a unit below it) corrected upwards; no bit-by-bit loop.
+#[inline]
+pub fn isqrt32(n: u32) -> u32 {
+    let n = n.min(i32::MAX as u32);
+    let mut m = sqrt_q8(n) >> SQRT_FRAC_BITS;
+    while (m + 1) * (m + 1) <= n {
+        m += 1;
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    #[test]
+    fn sqrt_q8_is_accurate() {
+        let mut worst = 0f64;
+        let mut check = |n: u32| {
+            let got = sqrt_q8(n) as f64 / 256.0;
+            let want = (n as f64).sqrt();
+            assert!(got <= want + 1e-9, "{n}: {got} > {want}");
+            let err = (want - got) - 1.0 / 256.0;
+            worst = worst.max(err / want);
+        };
+        for n in 0..100_000 {
+            check(n);
+        }
+        let mut r = Rng::new(1);
+        for _ in 0..1_000_000 {
+            check(r.next_u32() >> (r.next_u32() % 32));
+        }
+        for n in [u32::MAX, u32::MAX - 1, 1 << 30, (1 << 30) - 1, 1 << 31] {
+            check(n);
+        }
+        assert!(worst < 8e-6, "relative error {worst}");
+        assert_eq!(sqrt_q8(1), 256);
+        assert_eq!(sqrt_q8(65536), 65536);
+    }
+
+    #[test]
+    fn isqrt32_is_exact() {
+        let mut r = Rng::new(4);
+        for n in (0..1u32 << 20).chain((0..1_000_000).map(|_| r.next_u32() >> 1)) {
+            assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
+        for n in [
+            i32::MAX as u32,
+            (1 << 30) - 1,
+            1 << 30,
+            46_340 * 46_340,
+            46_341 * 46_341 - 1,
+        ] {
+            assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
+    }
+}
