@@ -153,7 +153,8 @@ pub struct Config {
     pub contrast_ring: Q16,
     /// How the RBPF measures the size.
     pub size_measurement: SizeMeasurement,
-    /// Keep every particle's size at the initial one (for comparing scale mechanisms).
+    /// Keep every particle's size at the initial one, within the frame's bounds (for
+    /// comparing scale mechanisms).
     pub freeze_size: bool,
     /// Prior weight of a re-detected particle against one that followed the motion,
     /// Q16.16 in `(0, 1]`: a re-detection wins only where it matches this many times
@@ -337,7 +338,7 @@ impl Config {
         learn_scale_per_row: false,
     };
 
-    /// The defaults for `variant`, chosen on the real sequences (README, "Accuracy"):
+    /// The defaults for `variant`, chosen on the real sequences (docs/accuracy.md):
     /// - appearance: 8x8x8 colour histograms of the window's upper and lower halves,
     ///   weighted by the ring around the target (twice its size), fixed after the first
     ///   frame (`adapt_rate` 0: an adapting model drifts onto what hides the target);

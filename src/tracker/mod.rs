@@ -503,6 +503,28 @@ mod tests {
         assert_eq!(reset_first.step(&frame).status, Status::Tracking);
     }
 
+    /// Regression (found by the `tracker` fuzz target): a frozen size larger than the
+    /// frame was reported as it was, past the frame's longer side.
+    #[test]
+    fn a_frozen_size_stays_within_the_frame() {
+        let (buf, init, mut config) = still_target(Q16::ZERO);
+        config.freeze_size = true;
+        let huge = Ellipse {
+            hx: Q16::from_int(30_000),
+            hy: Q16::from_int(20_000),
+            ..init
+        };
+        let frame = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
+        for variant in [Variant::ColourPf, Variant::Rbpf] {
+            config.variant = variant;
+            let mut t = Tracker::<Luma64, 50, 64>::new(config, &frame, huge).unwrap();
+            let e = t.step(&frame).ellipse;
+            assert_eq!((e.hx, e.hy), (Q16::from_int(63), Q16::from_int(63)));
+            let mut normal = Tracker::<Luma64, 50, 64>::new(config, &frame, init).unwrap();
+            assert_eq!(normal.step(&frame).ellipse.hx, init.hx, "{variant:?}");
+        }
+    }
+
     #[test]
     fn noise_narrows_on_a_predictable_target_and_only_when_asked() {
         for gain in [Q16::ZERO, Q16::from_int(2)] {

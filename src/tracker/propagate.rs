@@ -37,6 +37,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             let y_before = p.y;
             motion.drift(p, rng, bounds);
             if self.config.freeze_size {
+                // Frozen at the initial size, but never larger than this frame allows.
+                (p.size.hx, p.size.hy) = bounds.halves(p.size.hx, p.size.hy);
                 continue;
             }
             match self.config.variant {
