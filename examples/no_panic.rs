@@ -25,8 +25,9 @@
 //! for every binning (`Tracker<Rgb8x8x8, 100, 512>`, `Tracker<Rgb8x8x4, 200, 256>`,
 //! `Tracker<Yuv8x8x4, 1, 256>`, `Tracker<Luma64, 8, 64>`), with a `Config` and initial
 //! ellipses it cannot see either (so both variants and every setting are live):
-//! `Tracker::unstarted`, `start`, `new`, `reset`, `step`, `step_profiled` (with a counter
-//! that may read anything) and the getters `estimate`, `config`, `particles`,
+//! `Tracker::unstarted`, `start`, `new`, `reset`, `relocate` (on a box), `set_model`,
+//! `step`, `step_profiled` (with a counter that may read anything) and the getters
+//! `estimate` (and its box), `model`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
 //! `size_covariance` and `scale_per_row`.
 //!
@@ -49,6 +50,7 @@ mod proof {
         Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
     };
     use rbtrack::profile::CycleCounter;
+    use rbtrack::rect::Rect;
     use rbtrack::tracker::{Config, Tracker, Variant};
     use rbtrack::window::Ellipse;
 
@@ -123,9 +125,12 @@ mod proof {
         }
         black_box(tracker.reset(&frame, any_ellipse()).is_ok());
         black_box(tracker.step(&frame));
+        black_box(tracker.relocate(&frame, Rect::from(any_ellipse())).is_ok());
+        black_box(tracker.estimate().rect());
         if let Ok(mut built) = Tracker::<Bn, N, B>::new(any_config(), &frame, any_ellipse()) {
             black_box(built.step(&frame));
             read(&built);
+            black_box(tracker.set_model(built.model()).is_ok());
         }
     }
 

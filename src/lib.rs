@@ -1,7 +1,43 @@
-#![doc = include_str!("../README.md")]
+//! A `no_std`, allocation-free, integer-only visual object tracker for microcontroller
+//! camera boards: the colour particle filter and the Rao-Blackwellised particle filter
+//! (RBPF), each a fixed-size value stepped once per frame, with bounded work, no heap
+//! and no panic path.
+//!
+//! Start a tracker on the target's box in the first frame, then hand it each frame:
+//!
+//! ```
+//! use rbtrack::{Config, Gray8, ImageView, Rect, RgbTracker, Status, Variant};
+//!
+//! // A bright 20x20 square on a dark 64x48 grey frame, moving right 1 px a frame.
+//! let frame_at = |x0: usize| {
+//!     let mut buf = vec![40u8; 64 * 48];
+//!     for y in 14..34 {
+//!         buf[y * 64 + x0..y * 64 + x0 + 20].fill(220);
+//!     }
+//!     buf
+//! };
+//! let first = frame_at(10);
+//! let view = ImageView::<Gray8>::new(&first, 64, 48, 64)?;
+//! let mut tracker =
+//!     RgbTracker::<50>::new(Config::new(Variant::Rbpf), &view, Rect::new(10, 14, 20, 20))?;
+//! for x0 in 11..30 {
+//!     let buf = frame_at(x0);
+//!     let estimate = tracker.step(&ImageView::<Gray8>::new(&buf, 64, 48, 64)?);
+//!     assert_eq!(estimate.status, Status::Tracking);
+//! }
+//! let (x, _, w, _) = tracker.estimate().rect().px();
+//! assert!((x - 29).abs() <= 2 && (w - 20).abs() <= 4, "x {x}, w {w}");
+//! # Ok::<(), rbtrack::Error>(())
+//! ```
+//!
+//! The crate's `README.md` has the key figures and a firmware quick start; `docs/` in its
+//! repository has the design, accuracy, performance, firmware and guarantees pages.
 //!
 //! # Layers, from the bottom
-//! Each module uses only those listed above it.
+//! Each module uses only those listed above it. The modules a user needs are [`tracker`],
+//! [`image`], [`rect`], [`window`], [`fixed`] and [`profile`]; the others are the
+//! trackers' building blocks, public for the tests and the host harness and hidden from
+//! these pages.
 //!
 //! Arithmetic:
 //! - [`fixed`]: the Q16.16 number type, saturating, and the integer division and square
@@ -15,6 +51,7 @@
 //! - [`window`]: elliptical windows: the pixels of an ellipse on a sampling lattice, row
 //!   by row, clipped to the frame, with their Epanechnikov kernel weights and a cap on how
 //!   many are visited.
+//! - [`rect`]: boxes in pixels, as detectors and datasets give them, and their ellipses.
 //!
 //! Cues:
 //! - [`hist`]: kernel-weighted colour histograms, target models and the Bhattacharyya
@@ -34,6 +71,7 @@
 //! The trackers:
 //! - [`tracker`]: the colour particle filter and the Rao-Blackwellised particle filter,
 //!   configured once and stepped one frame at a time.
+//! - [`Error`]: a frame's or a tracker's refusal, for `?` in code that does both.
 #![no_std]
 #![forbid(unsafe_code)]
 
@@ -42,25 +80,55 @@ extern crate std;
 
 // Arithmetic.
 pub mod fixed;
+#[doc(hidden)]
 pub mod rng;
 mod trig;
 
 // Frames.
 pub mod image;
+pub mod rect;
 pub mod window;
 
 // Cues.
+#[doc(hidden)]
 pub mod colour;
+#[doc(hidden)]
 pub mod cue;
+#[doc(hidden)]
 pub mod hist;
+#[doc(hidden)]
 pub mod likelihood;
+#[doc(hidden)]
 pub mod map;
 
 // Estimation.
+#[doc(hidden)]
 pub mod ground;
+#[doc(hidden)]
 pub mod kalman;
 pub mod profile;
+#[doc(hidden)]
 pub mod resample;
 
 // The trackers.
 pub mod tracker;
+
+mod error;
+
+pub use error::Error;
+pub use fixed::Q16;
+pub use image::{
+    Binning, Gray8, ImageError, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888,
+    Rgb8x8x4, Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
+};
+pub use rect::Rect;
+pub use tracker::{
+    Config, ConfigError, Estimate, LumaTracker, Rgb256Tracker, RgbTracker, Status, TargetModel,
+    Tracker, Variant, YuvTracker,
+};
+pub use window::Ellipse;
+
+/// The README's Rust examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,10 +1,10 @@
-//! `ImageView::new`, then `Tracker::new`, `step`, `step_profiled` and `reset` on frames
-//! of any size, stride, pixel format and content, with any configuration.
+//! `ImageView::new`, then `Tracker::new`, `step`, `step_profiled`, `reset` and `relocate`
+//! on frames of any size, stride, pixel format and content, with any configuration.
 //!
 //! Oracles: no panic (the build keeps overflow checks and debug assertions on); `new`
 //! succeeds exactly when the configuration validates and the initial ellipse is
-//! acceptable; a failed `reset` leaves the tracker unchanged; every estimate keeps the
-//! documented guarantees ([`rbtrack_fuzz::check_estimate`]).
+//! acceptable; a failed `reset` or `relocate` leaves the tracker unchanged, `relocate`
+//! keeps the model; every estimate keeps the documented guarantees ([`rbtrack_fuzz::check_estimate`]).
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -33,6 +33,8 @@ enum Op {
     Profiled(u32),
     /// A reset on a new frame (or the first) at an ellipse.
     Reset(Option<FrameSpec>, EllipseSpec),
+    /// A relocation on a new frame (or the first) to an ellipse, keeping the model.
+    Relocate(Option<FrameSpec>, EllipseSpec),
 }
 
 #[derive(Arbitrary, Debug, Clone)]
@@ -78,11 +80,12 @@ fn run<Bn: Binning, const N: usize, const B: usize, P: PixelFormat>(input: &Inpu
         }
     };
     for op in input.ops.iter().take(MAX_OPS) {
-        // A step or reset on a new frame (or the first one again); a profiled step on the
-        // first frame.
-        let (spec, reset) = match op {
+        // A step, reset or relocation on a new frame (or the first one again); a profiled
+        // step on the first frame.
+        let (spec, move_to) = match op {
             Op::Step(spec) => (spec, None),
-            Op::Reset(spec, ellipse) => (spec, Some(ellipse)),
+            Op::Reset(spec, ellipse) => (spec, Some((ellipse, false))),
+            Op::Relocate(spec, ellipse) => (spec, Some((ellipse, true))),
             Op::Profiled(start) => {
                 let (e, _cycles) = tracker.step_profiled(&frame, Wild(*start));
                 let pixels = tracker.pixels_visited();
@@ -98,7 +101,7 @@ fn run<Bn: Binning, const N: usize, const B: usize, P: PixelFormat>(input: &Inpu
             None => Ok(frame),
         };
         let Ok(view) = view else { continue };
-        let Some(ellipse) = reset else {
+        let Some((ellipse, keep_model)) = move_to else {
             let e = tracker.step(&view);
             assert_eq!(e, tracker.estimate());
             let pixels = tracker.pixels_visited();
@@ -108,16 +111,27 @@ fn run<Bn: Binning, const N: usize, const B: usize, P: PixelFormat>(input: &Inpu
         let e = ellipse.get(view.width(), view.height());
         let ok = init_is_valid(&e, config.min_half_axis, view.width(), view.height());
         let before = tracker.clone();
-        match tracker.reset(&view, e) {
+        let moved = match keep_model {
+            true => tracker.relocate(&view, e),
+            false => tracker.reset(&view, e),
+        };
+        match moved {
             Ok(()) => {
-                assert!(ok, "reset accepted {e:?}");
+                assert!(ok, "moved to {e:?}");
                 assert_eq!(tracker.estimate().ellipse, e);
             }
             Err(err) => {
-                assert!(!ok, "reset rejected ({err}) {e:?}");
+                assert!(!ok, "refused ({err}) {e:?}");
                 assert_eq!(tracker.estimate(), before.estimate());
                 assert_eq!(tracker.particles(), before.particles());
             }
+        }
+        if keep_model {
+            assert_eq!(
+                tracker.model(),
+                before.model(),
+                "a relocation keeps the model"
+            );
         }
     }
 }

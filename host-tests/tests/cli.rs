@@ -1078,3 +1078,80 @@ fn eval_over_seeds() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The README's host quick start, run as written: every `cargo run ... --` line of its
+/// `sh` block, with the rbtrack binary, in a folder holding what the lines name
+/// (`clip.mp4` and `dump.raw`, 320x240, and a tiny `../shared/data`).
+#[test]
+fn readme_host_quick_start_runs_as_written() {
+    const PREFIX: &str = "cargo run --release -p rbtrack-host -- ";
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
+        .expect("README.md");
+    let section = readme
+        .split("## Host quick start")
+        .nth(1)
+        .expect("README has a host quick start");
+    let block = section
+        .split("```sh")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("the host quick start has an sh block");
+    let commands: Vec<Vec<&str>> = block
+        .lines()
+        .filter_map(|line| line.trim().strip_prefix(PREFIX))
+        .map(|line| {
+            line.split(" #")
+                .next()
+                .unwrap_or("")
+                .split_whitespace()
+                .collect()
+        })
+        .collect();
+    assert!(commands.len() >= 3, "{block}");
+
+    let root = temp_dir("readme");
+    let work = root.join("work");
+    write_sequence(&root.join("shared/data/Tiny"), 11);
+    let mut config = SceneConfig::new(Variant::Perspective, 11);
+    (config.width, config.height, config.frames) = (320, 240, 10);
+    let scene = Scene::new(config).unwrap();
+    let frames: Vec<Vec<u8>> = (0..FRAMES).map(|i| scene.render(i).unwrap()).collect();
+    std::fs::create_dir_all(work.join("png")).unwrap();
+    let mut raw = Vec::new();
+    for (i, rgb) in frames.iter().enumerate() {
+        let png = work.join("png").join(format!("{:04}.png", i + 1));
+        image::save_buffer(png, rgb, 320, 240, image::ExtendedColorType::Rgb8).unwrap();
+        let frame = Frame::rgb888(320, 240, rgb.clone()).unwrap();
+        raw.extend(frame.convert(Format::Rgb565Le).unwrap().bytes);
+    }
+    std::fs::write(work.join("dump.raw"), raw).unwrap();
+    let made = Command::new("ffmpeg")
+        .args(["-v", "error", "-nostdin", "-framerate", "10", "-i"])
+        .arg(work.join("png/%04d.png"))
+        .args(["-pix_fmt", "yuv420p"])
+        .arg(work.join("clip.mp4"))
+        .status();
+    if !made.is_ok_and(|s| s.success()) {
+        println!("SKIPPED readme_host_quick_start_runs_as_written: ffmpeg cannot make clip.mp4");
+        return;
+    }
+
+    for args in &commands {
+        let o = rbtrack_in(&work, args);
+        assert!(
+            o.status.success(),
+            "rbtrack {}: {}",
+            args.join(" "),
+            stderr(&o)
+        );
+    }
+    // What the lines promise to write.
+    assert!(work.join("out/demo/strip.png").is_file());
+    let rows = std::fs::read_to_string(work.join("out/track.csv")).unwrap();
+    assert_eq!(rows.lines().count(), FRAMES + 1, "{rows}");
+    assert_eq!(
+        std::fs::read_dir(work.join("out/frames")).unwrap().count(),
+        FRAMES
+    );
+    let _ = std::fs::remove_dir_all(root);
+}

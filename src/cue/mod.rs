@@ -80,12 +80,12 @@ const RECIP_FRAC_BITS: u32 = 48;
 /// Why [`GradientCue::new`] rejected a configuration: the name of the field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ConfigError {
+pub enum GradientError {
     /// The named field is outside its documented range.
     OutOfRange(&'static str),
 }
 
-impl core::fmt::Display for ConfigError {
+impl core::fmt::Display for GradientError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Self::OutOfRange(field) => write!(f, "gradient cue: {field} is out of range"),
@@ -93,7 +93,7 @@ impl core::fmt::Display for ConfigError {
     }
 }
 
-impl core::error::Error for ConfigError {}
+impl core::error::Error for GradientError {}
 
 /// Configuration of the gradient cue.
 #[non_exhaustive]
@@ -121,15 +121,15 @@ impl GradientConfig {
     }
 
     /// Checks every field against its range; the error names the first one out of it.
-    pub const fn check(&self) -> Result<(), ConfigError> {
+    pub const fn check(&self) -> Result<(), GradientError> {
         if self.points < 1 || self.points > MAX_POINTS {
-            return Err(ConfigError::OutOfRange("points"));
+            return Err(GradientError::OutOfRange("points"));
         }
         if self.search_px > MAX_SEARCH_PX {
-            return Err(ConfigError::OutOfRange("search_px"));
+            return Err(GradientError::OutOfRange("search_px"));
         }
         if self.saturation < 1 || self.saturation > MAX_MAGNITUDE {
-            return Err(ConfigError::OutOfRange("saturation"));
+            return Err(GradientError::OutOfRange("saturation"));
         }
         Ok(())
     }
@@ -167,7 +167,7 @@ impl GradientCue {
 
     /// Checks `config` ([`GradientConfig::check`]) and tabulates the `K` angles (integer
     /// arithmetic).
-    pub fn new(config: &GradientConfig) -> Result<Self, ConfigError> {
+    pub fn new(config: &GradientConfig) -> Result<Self, GradientError> {
         config.check()?;
         let mut cos = [Q16::ZERO; MAX_POINTS];
         let mut sin = [Q16::ZERO; MAX_POINTS];
@@ -452,20 +452,26 @@ mod tests {
     fn config_is_checked() {
         let mut c = GradientConfig::new();
         c.points = 0;
-        assert_eq!(GradientCue::new(&c), Err(ConfigError::OutOfRange("points")));
+        assert_eq!(
+            GradientCue::new(&c),
+            Err(GradientError::OutOfRange("points"))
+        );
         c.points = MAX_POINTS + 1;
-        assert_eq!(GradientCue::new(&c), Err(ConfigError::OutOfRange("points")));
+        assert_eq!(
+            GradientCue::new(&c),
+            Err(GradientError::OutOfRange("points"))
+        );
         c.points = MAX_POINTS;
         c.search_px = MAX_SEARCH_PX + 1;
         assert_eq!(
             GradientCue::new(&c),
-            Err(ConfigError::OutOfRange("search_px"))
+            Err(GradientError::OutOfRange("search_px"))
         );
         c.search_px = 0;
         c.saturation = 0;
         assert_eq!(
             GradientCue::new(&c),
-            Err(ConfigError::OutOfRange("saturation"))
+            Err(GradientError::OutOfRange("saturation"))
         );
         c.saturation = MAX_MAGNITUDE + 1;
         assert!(GradientCue::new(&c).is_err());
@@ -474,7 +480,7 @@ mod tests {
         assert_eq!(cue.angle(0), (Q16::ONE, Q16::ZERO));
         assert_eq!(cue.angle(16).0, Q16::ZERO);
         use std::string::ToString;
-        assert!(ConfigError::OutOfRange("points")
+        assert!(GradientError::OutOfRange("points")
             .to_string()
             .contains("points"));
     }

@@ -25,7 +25,9 @@ use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 mod div;
 mod sqrt;
 
+#[doc(hidden)]
 pub use div::div_u64_u32;
+#[doc(hidden)]
 pub use sqrt::{isqrt32, sqrt_q8, SQRT_FRAC_BITS};
 
 /// `2^16`, a [`Q16`]'s raw value per unit, as a float (for the float conversions).

@@ -30,7 +30,7 @@
 //! # Colour bins
 //! A [`Binning`] is a sealed marker type that maps any pixel format to a bin index in
 //! `0..BINS`. The histogram size is a const generic `B` and
-//! [`crate::hist::Histogram::fill`] checks `Bn::BINS == B` at compile time.
+//! `hist::Histogram::fill` checks `Bn::BINS == B` at compile time.
 //!
 //! | type | `BINS` | bits | from RGB565 |
 //! | --- | --- | --- | --- |

@@ -49,7 +49,7 @@ pub enum SizeMeasurement {
     /// down on real video.
     Likelihood,
     /// The scale of highest contrast on the object map: object probability inside the
-    /// window against a ring just outside it (see [`crate::map`]), with the window scale
+    /// window against a ring just outside it (the `map` module), with the window scale
     /// calibrated on the first frame.
     Contrast,
 }
@@ -135,7 +135,7 @@ pub struct Config {
     pub scale_step: Q16,
     /// Smallest half-axis, px, Q16.16 in `[1, 1024]`.
     pub min_half_axis: Q16,
-    /// Weight the colour model by its surroundings (CBWH, see [`crate::colour`]): colours
+    /// Weight the colour model by its surroundings (CBWH, the `colour` module): colours
     /// common around the target count less.
     pub background_weighting: bool,
     /// Floor of `o*` in the background weighting, as a share of the ring, Q16.16 in
@@ -144,7 +144,7 @@ pub struct Config {
     /// Outer scale of the ring whose colours are the target's surroundings, relative to
     /// the window, Q16.16 in `(1, 4]`.
     pub ring_scale: Q16,
-    /// Model the window's upper and lower halves apart (see [`crate::colour`]).
+    /// Model the window's upper and lower halves apart (the `colour` module).
     pub split_halves: bool,
     /// Sigma of the contrast cue on the object map in the particle weights, Q16.16 in
     /// `[0.01, 10]`; `None`: not in the weights.
@@ -160,7 +160,7 @@ pub struct Config {
     /// Q16.16 in `(0, 1]`: a re-detection wins only where it matches this many times
     /// better.
     pub redetect_prior: Q16,
-    /// Learn `scale_per_row` online while tracking (see [`crate::ground`]) and use the
+    /// Learn `scale_per_row` online while tracking (the `ground` module) and use the
     /// learnt slope once it is trustworthy.
     pub learn_scale_per_row: bool,
 }
@@ -173,7 +173,7 @@ pub enum ConfigError {
     OutOfRange(&'static str),
     /// The gradient cue refused its settings ([`Config::gradient`]: `gradient_points`,
     /// `gradient_search`).
-    Gradient(cue::ConfigError),
+    Gradient(cue::GradientError),
     /// The Kalman filter refused its noise or start covariance (from `kalman_q` and
     /// `kalman_r`).
     Kalman(KalmanError),
@@ -182,6 +182,9 @@ pub enum ConfigError {
     /// The initial ellipse has a half-axis below `min_half_axis` or its centre outside
     /// the frame.
     InitialEllipse,
+    /// A target model learnt under other colour settings, or given to an unstarted
+    /// tracker ([`super::Tracker::set_model`]).
+    ModelSettings,
 }
 
 impl core::fmt::Display for ConfigError {
@@ -194,6 +197,7 @@ impl core::fmt::Display for ConfigError {
             Self::InitialEllipse => {
                 write!(f, "initial ellipse too small or centred outside the frame")
             }
+            Self::ModelSettings => write!(f, "target model learnt under other colour settings"),
         }
     }
 }
@@ -208,8 +212,8 @@ impl core::error::Error for ConfigError {
     }
 }
 
-impl From<cue::ConfigError> for ConfigError {
-    fn from(e: cue::ConfigError) -> Self {
+impl From<cue::GradientError> for ConfigError {
+    fn from(e: cue::GradientError) -> Self {
         Self::Gradient(e)
     }
 }
@@ -233,8 +237,7 @@ pub(super) const fn decimal(n: i64, den: i64) -> Q16 {
     Q16::from_bits(rounded as i32)
 }
 
-/// What a tracker derives once per (re)start: from its valid [`Config`], and the contrast
-/// box calibration from the first frame.
+/// What a tracker derives once per (re)start from its valid [`Config`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) struct Derived {
     /// `1 / (2 colour_sigma^2)`.
@@ -247,9 +250,6 @@ pub(crate) struct Derived {
     pub cue: GradientCue,
     /// The size covariance every (re)start begins from, both blocks.
     pub initial_cov: Sym2,
-    /// Scale of the contrast boxes relative to the windows' bounding boxes, Q16.16: the
-    /// scale at which the first window had the highest contrast.
-    pub calibration: Q16,
 }
 
 impl Derived {
@@ -260,7 +260,6 @@ impl Derived {
         contrast_cost: None,
         cue: GradientCue::UNSET,
         initial_cov: Sym2::ZERO,
-        calibration: Q16::ZERO,
     };
 }
 
@@ -558,7 +557,6 @@ impl Config {
             contrast_cost,
             cue,
             initial_cov,
-            calibration: Q16::ONE,
         })
     }
 }
@@ -624,7 +622,7 @@ mod tests {
                     gradient_points: 200,
                     ..base
                 },
-                ConfigError::Gradient(cue::ConfigError::OutOfRange("points")),
+                ConfigError::Gradient(cue::GradientError::OutOfRange("points")),
             ),
             (
                 Config {

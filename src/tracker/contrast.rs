@@ -28,7 +28,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// The contrast box of window `e` (its bounding box times the calibration), scaled by
     /// `k` about its centre.
     pub(super) fn contrast_span(&self, e: &Ellipse, k: Q16) -> Span {
-        let k = self.derived.calibration.saturating_mul(k);
+        let k = self.state.model.calibration.saturating_mul(k);
         let (hx, hy) = (e.hx.saturating_mul(k), e.hy.saturating_mul(k));
         Span {
             x0: e.cx - hx,
@@ -63,7 +63,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     /// Builds this frame's object map over `region`.
     pub(super) fn build_map<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, region: &Span) {
-        let prob = self.state.colour.object_prob();
+        let prob = self.state.model.colour.object_prob();
         let n = self.scratch.map.build::<Bn, P, B>(frame, region, prob);
         self.report.read(n);
     }
@@ -77,7 +77,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         frame: &ImageView<'_, P>,
         init: &Ellipse,
     ) -> Q16 {
-        self.derived.calibration = Q16::ONE;
+        self.state.model.calibration = Q16::ONE;
         if !self.measures_size_by_contrast() && self.derived.contrast_cost.is_none() {
             return Q16::ONE;
         }
@@ -101,9 +101,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             if best_factor == Q16::ONE {
                 break;
             }
-            let calibration = self.derived.calibration * best_factor;
-            self.derived.calibration = calibration.clamp(Q16::HALF, Q16::from_int(2));
+            let calibration = self.state.model.calibration * best_factor;
+            self.state.model.calibration = calibration.clamp(Q16::HALF, Q16::from_int(2));
         }
-        self.derived.calibration
+        self.state.model.calibration
     }
 }

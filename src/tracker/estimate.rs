@@ -5,6 +5,7 @@ use super::particle::Particle;
 use super::{Readout, Tracker};
 use crate::fixed::Q16;
 use crate::image::{Binning, ImageView, PixelFormat};
+use crate::rect::Rect;
 use crate::window::Ellipse;
 
 /// How sure the tracker is of its estimate.
@@ -42,6 +43,12 @@ pub struct Estimate {
 }
 
 impl Estimate {
+    /// The estimate's box: its ellipse's bounding box, px ([`crate::rect`] gives the
+    /// convention).
+    pub fn rect(&self) -> Rect {
+        self.ellipse.into()
+    }
+
     /// A target at rest on `ellipse`.
     pub(super) const fn at_rest(ellipse: Ellipse, confidence: Q16, status: Status) -> Self {
         Self {
@@ -140,7 +147,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         if estimate.confidence < self.config.adapt_above || rate <= Q16::ZERO {
             return;
         }
-        let (colour, histograms) = (&mut self.state.colour, &mut self.scratch.histograms);
+        let (colour, histograms) = (&mut self.state.model.colour, &mut self.scratch.histograms);
         let pixels = colour.adapt::<Bn, P>(frame, &estimate.ellipse, histograms, rate);
         self.report.read(pixels);
     }

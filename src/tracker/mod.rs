@@ -82,21 +82,23 @@
 mod config;
 mod contrast;
 mod estimate;
+mod model;
 mod particle;
 mod propagate;
 mod size;
 mod weigh;
 
+pub use crate::resample::Scheme;
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
 pub use estimate::{Estimate, Status};
+pub use model::TargetModel;
 pub use particle::Particle;
 
-use crate::colour::ColourModel;
 use crate::cue::GradientMemo;
 use crate::fixed::Q16;
 use crate::ground::GroundPlane;
 use crate::hist::Histogram;
-use crate::image::{Binning, ImageView, PixelFormat};
+use crate::image::{Binning, ImageView, Luma64, PixelFormat, Rgb8x8x4, Rgb8x8x8, Yuv8x8x4};
 use crate::kalman::{SharedCovariance, Sym4};
 use crate::map::ObjectMap;
 use crate::profile::{CycleCounter, NoCounter, StageCycles, Stopwatch};
@@ -131,13 +133,22 @@ fn check_init<P: PixelFormat>(
     usable.then_some(()).ok_or(ConfigError::InitialEllipse)
 }
 
+/// A tracker of `N` particles on 8x8x8 RGB histograms (512 bins), the default.
+pub type RgbTracker<const N: usize> = Tracker<Rgb8x8x8, N, 512>;
+/// A tracker of `N` particles on 8x8x4 RGB histograms (256 bins: half the model's RAM).
+pub type Rgb256Tracker<const N: usize> = Tracker<Rgb8x8x4, N, 256>;
+/// A tracker of `N` particles on 8x8x4 YUV histograms (256 bins).
+pub type YuvTracker<const N: usize> = Tracker<Yuv8x8x4, N, 256>;
+/// A tracker of `N` particles on 64-level grey histograms.
+pub type LumaTracker<const N: usize> = Tracker<Luma64, N, 64>;
+
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
 /// the binning `Bn` (`Bn::BINS == B`, checked at compile time).
 ///
 /// Its RAM is its `size_of`, all inline: 48 bytes per particle (state, weight, gradient
 /// cue, colour cost, resampling scratch), the colour model (about 19 KiB with 512 bins),
 /// two scratch histograms, the object map (16.5 KiB), the 6 KiB gradient memo
-/// ([`crate::cue::GradientMemo`]) and under 1 KiB more: 54,448 bytes at N = 100 with 512
+/// (`cue::GradientMemo`) and under 1 KiB more: 54,456 bytes at N = 100 with 512
 /// bins on x86-64 (pinned by `host-tests/tests/tracking.rs`).
 #[derive(Clone, Debug)]
 pub struct Tracker<Bn: Binning, const N: usize, const B: usize> {
@@ -164,8 +175,8 @@ struct State<const N: usize, const B: usize> {
     weights: [u32; N],
     /// The Kalman covariance of the particles' sizes, shared by all (RBPF).
     size_cov: SharedCovariance,
-    /// The target's colour model against its surroundings.
-    colour: ColourModel<B>,
+    /// What the tracker learnt of its target.
+    model: TargetModel<B>,
     /// The ground-plane fit of the measured sizes.
     ground: GroundPlane,
     /// The last step's estimate (the initial ellipse before any).
@@ -235,7 +246,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 particles: [Particle::at(&origin); N],
                 weights: [0; N],
                 size_cov: SharedCovariance::UNSET,
-                colour: ColourModel::UNSET,
+                model: TargetModel::UNSET,
                 ground: GroundPlane::new(),
                 estimate: Estimate::at_rest(origin, Q16::ZERO, Status::Lost),
                 last_confident: origin,
@@ -273,8 +284,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         &mut self,
         config: Config,
         frame: &ImageView<'_, P>,
-        init: Ellipse,
+        init: impl Into<Ellipse>,
     ) -> Result<(), ConfigError> {
+        let init = init.into();
         if N == 0 || N > MAX_PARTICLES {
             return Err(ConfigError::ParticleCount);
         }
@@ -284,7 +296,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         self.state.size_cov = SharedCovariance::new(initial, initial, config.size_noise())?;
         self.config = config;
         self.derived = derived;
-        self.state.colour.configure(config.colour());
+        self.state.model.colour.configure(config.colour());
         self.scratch.memo.clear();
         self.state.rng = Some(Rng::new(config.seed));
         self.reset(frame, init)
@@ -299,7 +311,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     pub fn new<P: PixelFormat>(
         config: Config,
         frame: &ImageView<'_, P>,
-        init: Ellipse,
+        init: impl Into<Ellipse>,
     ) -> Result<Self, ConfigError> {
         let mut tracker = Self::unstarted();
         tracker.start(config, frame, init)?;
@@ -316,20 +328,35 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     pub fn reset<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
-        init: Ellipse,
+        init: impl Into<Ellipse>,
     ) -> Result<(), ConfigError> {
+        let init = init.into();
         if self.state.rng.is_none() {
             return self.start(Config::new(Variant::Rbpf), frame, init);
         }
         check_init(&self.config, frame, &init)?;
-        let initial = self.derived.initial_cov;
-        let size_cov = SharedCovariance::new(initial, initial, *self.state.size_cov.noise())?;
+        let size_cov = self.initial_size_cov()?;
         self.state
+            .model
             .colour
             .learn::<Bn, P>(frame, &init, &mut self.scratch.histograms);
-        self.derived.calibration = self.calibrate(frame, &init);
+        self.state.model.calibration = self.calibrate(frame, &init);
+        self.state.ground = GroundPlane::new();
+        self.place(init, size_cov);
+        Ok(())
+    }
+
+    /// The size covariance every (re)start begins from, with the configured noise.
+    fn initial_size_cov(&self) -> Result<SharedCovariance, ConfigError> {
+        let initial = self.derived.initial_cov;
+        let noise = *self.state.size_cov.noise();
+        Ok(SharedCovariance::new(initial, initial, noise)?)
+    }
+
+    /// Every particle at rest on `init` with equal weights, the size covariance
+    /// `size_cov`, and `init` the estimate.
+    fn place(&mut self, init: Ellipse, size_cov: SharedCovariance) {
         let state = &mut self.state;
-        state.ground = GroundPlane::new();
         state.particles = [Particle::at(&init); N];
         state.weights = [WEIGHT_TOTAL / N as u32; N];
         state.size_cov = size_cov;
@@ -337,7 +364,6 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         state.last_confident = init;
         state.motion_spread = None;
         self.scratch.memo.start_frame();
-        Ok(())
     }
 
     /// One frame: propagate, weigh, update, estimate, resample.

@@ -64,7 +64,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// counted.
     fn colour_score<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, e: &Ellipse) -> Q16 {
         let histograms = &mut self.scratch.histograms;
-        let (score, pixels) = self.state.colour.score::<Bn, P>(frame, e, histograms);
+        let (score, pixels) = self.state.model.colour.score::<Bn, P>(frame, e, histograms);
         self.report.read(pixels);
         score
     }
@@ -76,7 +76,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         e: &Ellipse,
     ) -> Match {
         let histograms = &mut self.scratch.histograms;
-        let m = self.state.colour.compare::<Bn, P>(frame, e, histograms);
+        let m = self
+            .state
+            .model
+            .colour
+            .compare::<Bn, P>(frame, e, histograms);
         self.report.read(m.pixels);
         m
     }
