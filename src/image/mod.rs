@@ -294,7 +294,9 @@ impl<'a, P: PixelFormat> ImageView<'a, P> {
     pub(crate) fn crosses(&self) -> Crosses<'a, P> {
         Crosses {
             bytes: self.buf,
-            row: self.stride * P::BYTES_PER_PIXEL,
+            // Exact whenever a second row exists (the buffer holds it); a one-row frame
+            // may have any stride, and its crosses never reach another row.
+            row: self.stride.saturating_mul(P::BYTES_PER_PIXEL),
             width: self.width as i32,
             height: self.height as i32,
             _format: PhantomData,

@@ -474,7 +474,7 @@ const GROUND_SPREAD_SHARE_LOG2: u32 = 2;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::image::{Gray8, Luma64};
+    use crate::image::{Gray8, Luma64, Rgb888, Rgb8x8x8};
 
     /// A still bright square on a dark 64x48 frame, and a tracker of it.
     fn still_target(noise_gain: Q16) -> ([u8; 64 * 48], Ellipse, Config) {
@@ -548,6 +548,25 @@ mod tests {
             assert_eq!((e.hx, e.hy), (Q16::from_int(63), Q16::from_int(63)));
             let mut normal = Tracker::<Luma64, 50, 64>::new(config, &frame, init).unwrap();
             assert_eq!(normal.step(&frame).ellipse.hx, init.hx, "{variant:?}");
+        }
+    }
+
+    /// Regression (found by the `tracker` fuzz target): a one-row frame may have any
+    /// stride, and its row length in bytes overflowed when the gradient cue read it.
+    #[test]
+    fn a_one_row_frame_of_any_stride_steps() {
+        let buf = [90u8; 64 * 3];
+        let frame = ImageView::<Rgb888>::new(&buf, 64, 1, usize::MAX / 2).unwrap();
+        let init = Ellipse::new(
+            Q16::from_int(30),
+            Q16::ZERO,
+            Q16::from_int(8),
+            Q16::from_int(8),
+        );
+        let config = Config::new(Variant::Rbpf);
+        let mut t = Tracker::<Rgb8x8x8, 8, 512>::new(config, &frame, init).unwrap();
+        for _ in 0..3 {
+            assert_eq!(t.step(&frame).ellipse.cy, Q16::ZERO);
         }
     }
 
