@@ -83,7 +83,8 @@ pub struct Config {
     /// position noise at the estimate. A target that moves smoothly then keeps its
     /// particles on its path, and a look-alike crossing it cannot pull them over; one
     /// that moves abruptly keeps the full noise. Off by default: on hand-held and aerial
-    /// footage the narrowed noise loses targets that jerk (README, "Motion-adaptive noise").
+    /// footage the narrowed noise loses targets that jerk (docs/accuracy.md, "A look-alike
+    /// crossing").
     pub noise_gain: Q16,
     /// Smallest share of the unscaled noise that `noise_gain` may leave, Q16.16 in `(0, 1]`.
     pub noise_floor: Q16,
@@ -348,7 +349,7 @@ impl Config {
     ///   Kalman `Q = 0.01 I`, `R = 16 I` (a slow, steady size); the colour PF samples it
     ///   (1 % a frame) and weighs the contrast cue (sigma 0.2); the ground-plane slope is
     ///   not learnt (on the real sequences the learnt slope did not raise the accuracy:
-    ///   README, "Accuracy");
+    ///   docs/accuracy.md);
     /// - search: while not `Tracking`, a quarter of the particles are re-drawn over the
     ///   frame with prior weight 1/200;
     /// - 300 pixels per window, 24 gradient points searched 2 px each side, systematic
