@@ -51,8 +51,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         Ok(())
     }
 
-    /// The learnt target model, to save (clone it, or copy its bytes' worth elsewhere) and
-    /// later give to [`Tracker::set_model`].
+    /// The learnt target model, to save (`clone_from` into a `static` of your own) and
+    /// later give to [`Tracker::set_model`] of this or another tracker.
     pub fn model(&self) -> &TargetModel<B> {
         &self.state.model
     }
