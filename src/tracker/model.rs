@@ -21,8 +21,9 @@ pub struct TargetModel<const B: usize> {
 }
 
 impl<const B: usize> TargetModel<B> {
-    /// Nothing learnt (every bit zero), before a start.
-    pub(super) const UNSET: Self = Self {
+    /// Nothing learnt, every bit zero: an unstarted tracker's model, and a place to save
+    /// one into (a `static` of it lands in `.bss`); [`Tracker::set_model`] refuses it.
+    pub const UNSET: Self = Self {
         colour: ColourModel::UNSET,
         calibration: Q16::ZERO,
     };
@@ -51,8 +52,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         Ok(())
     }
 
-    /// The learnt target model, to save (`clone_from` into a `static` of your own) and
-    /// later give to [`Tracker::set_model`] of this or another tracker.
+    /// The learnt target model, to save (`clone_from` into a [`TargetModel::UNSET`] of your
+    /// own) and later give to [`Tracker::set_model`] of this or another tracker.
     pub fn model(&self) -> &TargetModel<B> {
         &self.state.model
     }
@@ -158,5 +159,12 @@ mod tests {
         assert_eq!(*unlike.model(), kept);
         let mut unstarted = Tracker::<Luma64, 50, 64>::unstarted();
         assert_eq!(unstarted.set_model(&saved), Err(ConfigError::ModelSettings));
+        let mut slot = TargetModel::UNSET;
+        slot.clone_from(other.model());
+        assert_eq!(slot, saved);
+        assert_eq!(
+            other.set_model(&TargetModel::UNSET),
+            Err(ConfigError::ModelSettings)
+        );
     }
 }
