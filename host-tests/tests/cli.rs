@@ -49,6 +49,27 @@ fn write_sequence(dir: &Path, seed: u64) -> Vec<String> {
     lines
 }
 
+/// Rewrites the ground truth of the sequence in `dir` as 0-based boxes: `truth`, the
+/// 1-based lines [`write_sequence`] wrote, each corner moved up and left by 1 px. Returns
+/// the new lines.
+fn rewrite_zero_based(dir: &Path, truth: &[String]) -> Vec<String> {
+    let lines: Vec<String> = truth
+        .iter()
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            format!(
+                "{:.2},{:.2},{:.2},{:.2}",
+                v[0] - 1.0,
+                v[1] - 1.0,
+                v[2],
+                v[3]
+            )
+        })
+        .collect();
+    std::fs::write(dir.join(GROUNDTRUTH_FILE), lines.join("\n")).unwrap();
+    lines
+}
+
 fn rbtrack(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rbtrack"))
         .args(args)
@@ -512,20 +533,7 @@ fn box_convention_is_stated() {
     let truth = write_sequence(&one, 8);
     let zero = dir.join("Tiny0");
     write_sequence(&zero, 8);
-    let zero_lines: Vec<String> = truth
-        .iter()
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            format!(
-                "{:.2},{:.2},{:.2},{:.2}",
-                v[0] - 1.0,
-                v[1] - 1.0,
-                v[2],
-                v[3]
-            )
-        })
-        .collect();
-    std::fs::write(zero.join(GROUNDTRUTH_FILE), zero_lines.join("\n")).unwrap();
+    let zero_lines = rewrite_zero_based(&zero, &truth);
     let boxes = dir.join("boxes0.txt");
     let a = json(&rbtrack(&["track", path(&one), "--json"]));
     let b = json(&rbtrack(&[
@@ -943,24 +951,7 @@ fn eval_over_seeds() {
     write_sequence(&data.join("Alpha"), 11);
     write_sequence(&data.join("Beta"), 12);
     let zero = write_sequence(&data.join("Zero"), 13);
-    let zero_lines: Vec<String> = zero
-        .iter()
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            format!(
-                "{:.2},{:.2},{:.2},{:.2}",
-                v[0] - 1.0,
-                v[1] - 1.0,
-                v[2],
-                v[3]
-            )
-        })
-        .collect();
-    std::fs::write(
-        data.join("Zero").join(GROUNDTRUTH_FILE),
-        zero_lines.join("\n"),
-    )
-    .unwrap();
+    let zero_lines = rewrite_zero_based(&data.join("Zero"), &zero);
     let common = [
         "eval",
         path(&data),
