@@ -62,18 +62,16 @@ const HALF: Q16 = Q16::from_bits(1 << 15);
 /// `start + (size - 1) / 2`, rounded to nearest (halves away from zero), saturating.
 const fn centre_of(start: Q16, size: Q16) -> Q16 {
     // Twice the centre, exact in i64: 2 start + size - 1.
-    let twice = 2 * start.to_bits() as i64 + size.to_bits() as i64 - Q16::ONE.to_bits() as i64;
-    let half = if twice >= 0 {
-        (twice + 1) >> 1
-    } else {
-        -((-twice + 1) >> 1)
-    };
-    Q16::saturate(half)
+    halve(2 * start.to_bits() as i64 + size.to_bits() as i64 - Q16::ONE.to_bits() as i64)
 }
 
 /// `value / 2`, rounded to nearest (halves away from zero).
 const fn half(value: Q16) -> Q16 {
-    let bits = value.to_bits() as i64;
+    halve(value.to_bits() as i64)
+}
+
+/// `bits / 2` (Q16.16 bits), rounded to nearest (halves away from zero), saturating.
+const fn halve(bits: i64) -> Q16 {
     let half = if bits >= 0 {
         (bits + 1) >> 1
     } else {
