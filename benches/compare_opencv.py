@@ -5,6 +5,8 @@
     cargo build --release -p rbtrack-host                        # the `rbtrack` binary
     python3 benches/compare_opencv.py --zero-based-sequences ball1_vot15   # ../shared/data
     python3 benches/compare_opencv.py DATA_DIR --seeds 1,2,3 --per-sequence --rbtrack PATH
+    python3 benches/compare_opencv.py --seeds 1,2,3 --starts spatial --peers CSRT \
+        --zero-based-sequences ball1_vot15
 
 Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.legacy`,
 default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
@@ -13,11 +15,17 @@ sequence, and prints one table: success AUC, precision at 20 px and tracking-onl
 milliseconds per frame, with rbtrack's time as a ratio to each tracker's, all measured in
 this run.
 
-The protocol, one for every tracker:
-- Frames: each sequence's `img/*.jpg|png`, ordered by the number in their name, read once
-  with `cv2.imread`; the OpenCV trackers get them as read (BGR), rbtrack gets the very same
-  pixels as RGB through a raw dump (`rbtrack track DUMP --raw WxH:rgb888`), so no tracker
-  sees another decoder's pixels.
+The protocol, one for every tracker and the same as `rbtrack eval`'s:
+- Frames: each sequence's `img/*.jpg|png`, decoded once by rbtrack itself
+  (`rbtrack frames SEQ DUMP`, the decoder `rbtrack eval` and `rbtrack track` use) into a raw
+  RGB888 dump; the OpenCV trackers get those pixels (as BGR), rbtrack gets the dump
+  (`rbtrack track DUMP --raw WxH:rgb888`), so every tracker sees the same pixels, and
+  rbtrack's rows equal `rbtrack eval`'s for the same seeds and starts.
+- Starts: `--starts box` (the default) starts every tracker from the first ground-truth
+  box; `--starts spatial` also from that box shifted 2 px left, right, up and down and
+  scaled by 0.95 and 1.05 about its centre (7 starts, as `rbtrack eval --starts
+  spatial`), each tracker scored from its own start; the rows are means over starts (and
+  rbtrack's seeds), and a second table gives each tracker's mean per start.
 - Boxes: `groundtruth_rect.txt` has one `x,y,w,h` per line (commas, spaces or tabs) in a
   stated convention: 1-based by default (OTB, UAV123, LaSOT and MOT as published),
   `--zero-based` for all, `--zero-based-sequences NAMES` for some (ball1_vot15 in the shared
@@ -47,8 +55,8 @@ pixel right of and below the annotated target; `--zero-based` reproduces it) mov
 scores a lot: CSRT 0.702 instead of 0.649 on Crossing, KiteSurf, PETS09S2L1_id11,
 ball1_vot15 and boat1_uav (KiteSurf 0.501 instead of 0.314), 0.589 instead of 0.531 on the
 14 shared sequences (TUDStadtmitte_id2 0.697 instead of 0.070). The trackers are
-sensitive to the decoder too (rbtrack's own JPEG decoding instead of `cv2.imread`'s pixels
-moves its mean AUC by up to a few hundredths), hence one reader for all.
+sensitive to the decoder too (`cv2.imread`'s JPEG decoding instead of rbtrack's moves
+rbtrack's mean AUC by up to a few hundredths), hence one reader for all.
 """
 
 import argparse
@@ -103,23 +111,36 @@ def to_zero_based(box, zero_based):
     return (x - 1.0, y - 1.0, w, h)
 
 
-def frame_paths(seq):
-    """The frames in rbtrack's order: by the number their name starts with, then by name."""
-    def number(p):
-        digits = re.match(r"\d+", p.name)
-        return (int(digits.group()) if digits else math.inf, p.name)
+def decode(binary, seq, dump):
+    """Decodes a sequence with `rbtrack frames` into `dump`; its `--raw` layout and its
+    frames as BGR arrays."""
+    out = subprocess.run([str(binary), "frames", str(seq), str(dump)],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"compare_opencv.py: rbtrack frames {seq}: {out.stderr.strip()}")
+    layout, count = out.stdout.split()
+    width, height = (int(v) for v in layout.split(":")[0].split("x"))
+    rgb = np.fromfile(dump, dtype=np.uint8).reshape(int(count), height, width, 3)
+    return layout, [cv2.cvtColor(f, cv2.COLOR_RGB2BGR) for f in rgb]
 
-    suffixes = (".jpg", ".jpeg", ".png")
-    paths = [p for p in (seq / "img").iterdir() if p.suffix.lower() in suffixes]
-    return sorted(paths, key=number)
+
+# (name, dx px, dy px, scale): rbtrack eval's starts (host-tests/src/cli/runs.rs, Start).
+STARTS = [
+    ("box", 0.0, 0.0, 1.0),
+    ("left2", -2.0, 0.0, 1.0),
+    ("right2", 2.0, 0.0, 1.0),
+    ("up2", 0.0, -2.0, 1.0),
+    ("down2", 0.0, 2.0, 1.0),
+    ("scale0.95", 0.0, 0.0, 0.95),
+    ("scale1.05", 0.0, 0.0, 1.05),
+]
 
 
-def read_frames(seq):
-    """Every frame of a sequence as read by `cv2.imread` (BGR)."""
-    frames = [cv2.imread(str(p), cv2.IMREAD_COLOR) for p in frame_paths(seq)]
-    if not frames or any(f is None for f in frames):
-        sys.exit(f"compare_opencv.py: cannot read the frames of {seq}")
-    return frames
+def start_box(box, start):
+    """`box` moved to `start`: shifted, and scaled about its centre (either convention)."""
+    _, dx, dy, scale = start
+    x, y, w, h = box
+    return (x + (w - w * scale) / 2 + dx, y + (h - h * scale) / 2 + dy, w * scale, h * scale)
 
 
 def sequences(data):
@@ -228,21 +249,13 @@ def run_peer(make, frames, init):
     return boxes, 1000.0 * statistics.fmean(times) if times else 0.0
 
 
-def write_dump(frames, path):
-    """The frames as RGB888, back to back: what `rbtrack track --raw WxH:rgb888` reads."""
-    with open(path, "wb") as f:
-        for frame in frames:
-            f.write(cv2.cvtColor(frame, cv2.COLOR_BGR2RGB).tobytes())
-    height, width = frames[0].shape[:2]
-    return f"{width}x{height}:rgb888"
-
-
-def run_rbtrack(binary, seq, dump, layout, zero_based, tracker, seed, args):
-    """rbtrack's JSON result and 0-based boxes for one tracker and seed over the dump."""
+def run_rbtrack(binary, seq, dump, layout, zero_based, tracker, seed, start, args):
+    """rbtrack's JSON result and 0-based boxes for one tracker, seed and start over the
+    dump."""
     with tempfile.TemporaryDirectory() as tmp:
         boxes_file = Path(tmp) / "boxes.txt"
         groundtruth = seq / "groundtruth_rect.txt"
-        first = read_boxes(groundtruth)[0]
+        first = start_box(read_boxes(groundtruth)[0], start)
         cmd = [
             str(binary), "track", str(dump), "--raw", layout,
             "--zero-based" if zero_based else "--one-based",
@@ -250,8 +263,10 @@ def run_rbtrack(binary, seq, dump, layout, zero_based, tracker, seed, args):
             "--tracker", tracker, "--seed", str(seed), "--particles", str(args.particles),
             "--json", "--boxes", str(boxes_file),
         ]
-        out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-        result = json.loads(out)
+        out = subprocess.run(cmd, capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit(f"compare_opencv.py: {' '.join(cmd)}: {out.stderr.strip()}")
+        result = json.loads(out.stdout)
         boxes = [to_zero_based(b, zero_based) for b in read_boxes(boxes_file)]
     return result, boxes
 
@@ -281,6 +296,10 @@ def main():
     parser.add_argument("--rbtrack", help="path of the rbtrack binary")
     parser.add_argument("--particles", type=int, default=100)
     parser.add_argument("--seeds", default="1", help="rbtrack's seeds, comma-separated (default 1)")
+    parser.add_argument("--starts", choices=("box", "spatial"), default="box",
+                        help="first boxes: the ground truth's, or also 6 perturbed ones")
+    parser.add_argument("--peers", default="CSRT,KCF,MIL,MOSSE,CamShift",
+                        help="OpenCV trackers to run, comma-separated (default all)")
     convention = parser.add_mutually_exclusive_group()
     convention.add_argument("--zero-based", action="store_true",
                             help="ground-truth files count pixels from 0")
@@ -304,50 +323,73 @@ def main():
     binary = find_rbtrack(args.rbtrack)
     cv2.setNumThreads(args.threads)
 
-    peers = {name: opencv_tracker(name) for name in ("CSRT", "KCF", "MIL", "MOSSE")}
-    peers["CamShift"] = CamShift
+    makers = {name: opencv_tracker(name) for name in ("CSRT", "KCF", "MIL", "MOSSE")}
+    makers["CamShift"] = CamShift
+    chosen = [p.strip() for p in args.peers.split(",") if p.strip()]
+    unknown = [p for p in chosen if p not in makers]
+    if unknown:
+        sys.exit(f"compare_opencv.py: --peers: no tracker {unknown}; choose from {list(makers)}")
+    peers = {name: makers[name] for name in chosen}
+    starts = STARTS if args.starts == "spatial" else STARTS[:1]
     names = ["rbtrack-rbpf", "rbtrack-pf", *peers]
     rows = {n: [] for n in names}  # per sequence: (sequence, auc, prec20, ms)
+    by_start = {n: {s[0]: [] for s in starts} for n in names}  # per start: AUC per sequence
     for seq in sequences(data):
         zero_based = args.zero_based or seq.name in zero_named
         truth = [to_zero_based(b, zero_based) for b in read_boxes(seq / "groundtruth_rect.txt")]
-        frames = read_frames(seq)
         with tempfile.TemporaryDirectory() as tmp:
             dump = Path(tmp) / f"{seq.name}.rgb"
-            layout = write_dump(frames, dump)
+            layout, frames = decode(binary, seq, dump)
             for tracker in ("rbpf", "pf"):
-                per_seed = []
-                for seed in seeds:
-                    result, boxes = run_rbtrack(
-                        binary, seq, dump, layout, zero_based, tracker, seed, args
-                    )
-                    auc, prec = scores(truth, boxes)
-                    # The box file has two decimals, so an IoU next to a threshold can land
-                    # on either side: allow a little.
-                    if abs(auc - result["auc"]) > 2e-3 or abs(prec - result["prec20"]) > 2e-3:
-                        print(
-                            f"warning: {seq.name} {tracker} seed {seed}: recomputed AUC "
-                            f"{auc:.6f} / prec {prec:.6f} differ from rbtrack's "
-                            f"{result['auc']:.6f} / {result['prec20']:.6f}",
-                            file=sys.stderr,
+                name = f"rbtrack-{tracker}"
+                runs = []
+                for start in starts:
+                    per_start = []
+                    for seed in seeds:
+                        result, boxes = run_rbtrack(
+                            binary, seq, dump, layout, zero_based, tracker, seed, start, args
                         )
-                    per_seed.append((result["auc"], result["prec20"], result["ms_per_frame"]))
-                rows[f"rbtrack-{tracker}"].append(
-                    (seq.name, *(statistics.fmean(r[i] for r in per_seed) for i in range(3)))
+                        auc, prec = scores(truth, boxes)
+                        # The box file has two decimals, so an IoU next to a threshold can
+                        # land on either side: allow a little.
+                        if abs(auc - result["auc"]) > 2e-3 or abs(prec - result["prec20"]) > 2e-3:
+                            print(
+                                f"warning: {seq.name} {tracker} seed {seed} {start[0]}: "
+                                f"recomputed AUC {auc:.6f} / prec {prec:.6f} differ from "
+                                f"rbtrack's {result['auc']:.6f} / {result['prec20']:.6f}",
+                                file=sys.stderr,
+                            )
+                        per_start.append((result["auc"], result["prec20"], result["ms_per_frame"]))
+                    by_start[name][start[0]].append(statistics.fmean(r[0] for r in per_start))
+                    runs.extend(per_start)
+                rows[name].append(
+                    (seq.name, *(statistics.fmean(r[i] for r in runs) for i in range(3)))
                 )
         for name, make in peers.items():
-            boxes, ms = run_peer(make, frames, truth[0])
-            auc, prec = scores(truth, boxes)
-            rows[name].append((seq.name, auc, prec, ms))
+            runs = []
+            for start in starts:
+                init = to_zero_based(
+                    start_box(read_boxes(seq / "groundtruth_rect.txt")[0], start), zero_based
+                )
+                boxes, ms = run_peer(make, frames, init)
+                auc, prec = scores(truth, boxes)
+                by_start[name][start[0]].append(auc)
+                runs.append((auc, prec, ms))
+            rows[name].append(
+                (seq.name, *(statistics.fmean(r[i] for r in runs) for i in range(3)))
+            )
         print(f"{seq.name}: done", file=sys.stderr)
 
     mean = {
         n: tuple(statistics.fmean(r[i] for r in rows[n]) for i in (1, 2, 3)) if rows[n] else (0, 0, 0)
         for n in names
     }
+    start_means = {n: {k: statistics.fmean(v) for k, v in by_start[n].items() if v} for n in names}
     rb_ms = mean["rbtrack-rbpf"][2]
     if args.json:
         print(json.dumps({"data": str(data), "particles": args.particles, "seeds": seeds,
+                          "starts": [s[0] for s in starts],
+                          "mean_auc_per_start": start_means,
                           "zero_based": args.zero_based,
                           "zero_based_sequences": sorted(zero_named),
                           "opencv": cv2.__version__, "threads": args.threads,
@@ -356,8 +398,9 @@ def main():
                                    for n in names}}, indent=1))
         return
     print(
-        f"{data}: {len(rows['CSRT'])} sequences; OpenCV {cv2.__version__} on {args.threads} "
-        f"thread(s); rbtrack N = {args.particles}, seeds {args.seeds} (mean); boxes "
+        f"{data}: {len(rows['rbtrack-rbpf'])} sequences; OpenCV {cv2.__version__} on {args.threads} "
+        f"thread(s); rbtrack N = {args.particles}, seeds {args.seeds} (mean); "
+        f"{len(starts)} start(s) per tracker (mean); boxes "
         f"{'0-based' if args.zero_based else '1-based'}"
         f"{' except ' + ', '.join(sorted(zero_named)) if zero_named else ''}; "
         f"means over sequences"
@@ -370,10 +413,18 @@ def main():
         ratio = rb_ms / ms if ms > 0 else math.inf
         share = f"{ratio:8.3f}  (1/{1 / ratio:.0f})" if 0 < ratio < 1 else f"{ratio:8.3f}"
         print(f"{n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}  {share}")
+    if len(starts) > 1:
+        print()
+        print("mean AUC per start (over sequences" + (" and seeds" if len(seeds) > 1 else "") + ")")
+        print(f"{'tracker':14} " + " ".join(f"{s[0]:>9}" for s in starts) + "  perturbed")
+        for n in names:
+            per = start_means[n]
+            perturbed = statistics.fmean(per[s[0]] for s in starts[1:])
+            print(f"{n:14} " + " ".join(f"{per[s[0]]:9.3f}" for s in starts) + f"  {perturbed:9.3f}")
     if args.per_sequence:
         print()
         print(f"{'sequence':16} {'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}")
-        for i, (seq, *_rest) in enumerate(rows["CSRT"]):
+        for i, (seq, *_rest) in enumerate(rows["rbtrack-rbpf"]):
             for n in names:
                 _, auc, prec, ms = rows[n][i]
                 print(f"{seq:16} {n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}")

@@ -49,6 +49,26 @@ fn write_sequence(dir: &Path, seed: u64) -> Vec<String> {
     lines
 }
 
+/// Rewrites the ground truth of the sequence in `dir`, `truth`, each box grown by 2 px on
+/// every side. Returns the new lines.
+fn grown(dir: &Path, truth: &[String]) -> Vec<String> {
+    let lines: Vec<String> = truth
+        .iter()
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            format!(
+                "{:.2},{:.2},{:.2},{:.2}",
+                v[0] - 2.0,
+                v[1] - 2.0,
+                v[2] + 4.0,
+                v[3] + 4.0
+            )
+        })
+        .collect();
+    std::fs::write(dir.join(GROUNDTRUTH_FILE), lines.join("\n")).unwrap();
+    lines
+}
+
 /// Rewrites the ground truth of the sequence in `dir` as 0-based boxes: `truth`, the
 /// 1-based lines [`write_sequence`] wrote, each corner moved up and left by 1 px. Returns
 /// the new lines.
@@ -938,6 +958,167 @@ fn eval_two_sequences() {
         &rbtrack(&["eval", path(&data), "--zero-based-sequences", "Gamma"]),
         "unknown 0-based sequence",
         "Gamma",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `frames`: the sequence's frames as one RGB888 dump, the PNGs' pixels exactly, which
+/// `track --raw` tracks as it tracks the folder.
+#[test]
+fn frames_dump_is_what_track_reads() {
+    let dir = temp_dir("frames");
+    let seq = dir.join("Alpha");
+    write_sequence(&seq, 31);
+    let dump = dir.join("out/alpha.rgb");
+    let o = rbtrack(&["frames", path(&seq), path(&dump)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stdout(&o), format!("{W}x{H}:rgb888 {FRAMES}\n"));
+    let bytes = std::fs::read(&dump).unwrap();
+    assert_eq!(bytes.len(), (W * H * 3) as usize * FRAMES);
+    let frame = (W * H * 3) as usize;
+    for i in [0, FRAMES - 1] {
+        let png = image::open(seq.join(format!("img/{:04}.png", i + 1)))
+            .unwrap()
+            .to_rgb8();
+        assert_eq!(&bytes[i * frame..(i + 1) * frame], png.as_raw().as_slice());
+    }
+    let groundtruth = seq.join(GROUNDTRUTH_FILE);
+    let from_folder = json(&rbtrack(&["track", path(&seq), "--particles", "25", "--json"]));
+    let from_dump = json(&rbtrack(&[
+        "track",
+        path(&dump),
+        "--raw",
+        &format!("{W}x{H}:rgb888"),
+        "--groundtruth",
+        path(&groundtruth),
+        "--particles",
+        "25",
+        "--json",
+    ]));
+    assert_eq!(from_folder["auc"], from_dump["auc"]);
+    assert_one_line_error(
+        &rbtrack(&["frames", path(&dir.join("missing")), path(&dump)]),
+        "missing sequence",
+        "missing",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `eval --starts spatial`: every seed runs from the seven starts (the box, four 2 px
+/// shifts, two scales); each run's first box is its start, the set's mean per start is the
+/// mean over sequences and seeds of that start's runs, and the box start alone scores as
+/// a plain `eval`.
+#[test]
+fn eval_from_spatial_starts() {
+    let dir = temp_dir("starts");
+    let data = dir.join("data");
+    // The scene's first box is 4 px wide, the smallest a tracker starts from: grow the
+    // boxes by 4 px so that the 0.95 start stays usable.
+    let lines = grown(&data.join("Alpha"), &write_sequence(&data.join("Alpha"), 21));
+    grown(&data.join("Beta"), &write_sequence(&data.join("Beta"), 22));
+    let common = ["eval", path(&data), "--particles", "25", "--seeds", "1,2"];
+    let mut args = common.to_vec();
+    let boxes = dir.join("boxes");
+    args.extend(["--starts", "spatial", "--json", "--boxes", path(&boxes)]);
+    let doc = json(&rbtrack(&args));
+    let names = [
+        "box",
+        "left2",
+        "right2",
+        "up2",
+        "down2",
+        "scale0.95",
+        "scale1.05",
+    ];
+    let starts: Vec<&str> = doc["starts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(starts, names);
+    let seqs = doc["sequences"].as_array().unwrap();
+    for s in seqs {
+        assert_eq!(s["per_seed"].as_array().unwrap().len(), 14, "{s}");
+    }
+    let mean = &doc["mean"][0];
+    for (k, p) in mean["per_start"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(p["start"], names[k]);
+        let runs: Vec<f64> = seqs
+            .iter()
+            .flat_map(|s| s["per_seed"].as_array().unwrap())
+            .filter(|r| r["start"] == names[k])
+            .map(|r| r["auc"].as_f64().unwrap())
+            .collect();
+        assert_eq!(runs.len(), 4);
+        let expected = runs.iter().sum::<f64>() / 4.0;
+        assert!((p["auc"].as_f64().unwrap() - expected).abs() < 1e-12, "{p}");
+    }
+    // Each box file starts from its start: the first ground-truth box moved.
+    let truth: Vec<f64> = lines[0].split(',').map(|v| v.parse().unwrap()).collect();
+    for (file, [dx, dy, scale]) in [
+        ("Alpha_seed1_box.txt", [0.0, 0.0, 1.0]),
+        ("Alpha_seed2_left2.txt", [-2.0, 0.0, 1.0]),
+        ("Alpha_seed1_down2.txt", [0.0, 2.0, 1.0]),
+        ("Alpha_seed2_scale1.05.txt", [0.0, 0.0, 1.05]),
+    ] {
+        let text = std::fs::read_to_string(boxes.join(file)).unwrap();
+        let first: Vec<f64> = text
+            .lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let (w, h) = (truth[2] * scale, truth[3] * scale);
+        let expected = [
+            truth[0] + (truth[2] - w) / 2.0 + dx,
+            truth[1] + (truth[3] - h) / 2.0 + dy,
+            w,
+            h,
+        ];
+        for (got, want) in first.iter().zip(expected) {
+            assert!(
+                (got - want).abs() <= 0.005 + 1e-9,
+                "{file}: {first:?} {expected:?}"
+            );
+        }
+    }
+    // The box start's runs are a plain eval's.
+    let plain = json(&rbtrack(&[&common[..], &["--json"]].concat()));
+    let alpha = |doc: &Value| -> Vec<f64> {
+        doc["sequences"][0]["per_seed"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r.get("start").is_none_or(|s| s == "box"))
+            .map(|r| r["auc"].as_f64().unwrap())
+            .collect()
+    };
+    assert_eq!(alpha(&doc), alpha(&plain));
+    assert_eq!(
+        mean["per_start"][0]["auc"], plain["mean"][0]["auc"],
+        "{mean}"
+    );
+
+    // The table names the starts and prints the mean per start.
+    let o = rbtrack(
+        &[
+            &common[..],
+            &["--starts", "spatial", "--out", path(&dir.join("plots"))],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("7 starts per seed"), "{text}");
+    let per_start = text
+        .lines()
+        .find(|l| l.starts_with("mean AUC per start"))
+        .unwrap();
+    assert!(
+        per_start.contains("rbpf: box ") && per_start.contains("perturbed mean"),
+        "{text}"
     );
     let _ = std::fs::remove_dir_all(dir);
 }

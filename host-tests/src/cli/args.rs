@@ -2,6 +2,7 @@
 //! a bad value on one line, an unknown option or a missing argument with the usage.
 
 use super::input::RawLayout;
+use super::runs::Start;
 use super::TrackerKind;
 use crate::config_fields::{Preset, Setting};
 use crate::metrics::BBox;
@@ -20,6 +21,8 @@ const EXAMPLES: &str = "Examples:
   rbtrack track clip.mp4 --init 120,80,30,60 --per-frame out/clip.csv --overlay out/clip
   rbtrack track dump.bin --raw 320x240:rgb565le --init 120,80,30,60
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --set colour_sigma=0.15
+  rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --starts spatial
+  rbtrack frames ../shared/data/Crossing out/Crossing.rgb
   rbtrack paper --runs 10";
 
 /// `rbtrack`: the host tool of the rbtrack tracker core.
@@ -52,10 +55,24 @@ pub enum Command {
     /// sequence and tracker, the mean over sequences, success and precision plots
     #[command(allow_negative_numbers = true)]
     Eval(EvalArgs),
+    /// Decode one sequence folder's frames as track and eval do and write them as one
+    /// raw RGB888 dump; prints WIDTHxHEIGHT:rgb888 and the frame count
+    Frames(FramesArgs),
     /// The RBPF paper's simulation study (section 3.1): RBPF against PF, the dependency
     /// sweep S = 1..15 and the particle-count comparison
     #[command(allow_negative_numbers = true)]
     Paper(PaperArgs),
+}
+
+/// Options of `rbtrack frames`.
+#[derive(Debug, Args)]
+pub struct FramesArgs {
+    /// Sequence folder (OTB layout: img/ with numbered JPEG or PNG frames)
+    #[arg(value_name = "SEQUENCE_DIR")]
+    pub sequence: PathBuf,
+    /// The dump to write: RGB888 rows top to bottom, frames back to back
+    #[arg(value_name = "OUT")]
+    pub out: PathBuf,
 }
 
 /// Options of `rbtrack demo`.
@@ -205,6 +222,25 @@ impl TrackerChoice {
     }
 }
 
+/// The first boxes `eval` starts each sequence from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Starts {
+    /// The first ground-truth box.
+    Box,
+    /// The box and six perturbed boxes ([`Start::SPATIAL`]).
+    Spatial,
+}
+
+impl Starts {
+    /// The starts chosen.
+    pub fn starts(self) -> &'static [Start] {
+        match self {
+            Self::Box => &Start::SPATIAL[..1],
+            Self::Spatial => &Start::SPATIAL,
+        }
+    }
+}
+
 /// Options of `rbtrack eval`.
 #[derive(Debug, Args)]
 pub struct EvalArgs {
@@ -221,6 +257,11 @@ pub struct EvalArgs {
     /// frames; the table shows means over the seeds and the AUC's range
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub seeds: Vec<u64>,
+    /// First boxes: the ground truth's (box), or spatial: also shifted 2 px left, right,
+    /// up and down and scaled by 0.95 and 1.05 about its centre (7 starts, every seed
+    /// from each)
+    #[arg(long, value_enum, value_name = "S", default_value = "box")]
+    pub starts: Starts,
     /// Configuration and particles.
     #[command(flatten)]
     pub config: ConfigArgs,
@@ -240,8 +281,8 @@ pub struct EvalArgs {
     /// Write the plots into out/eval (or --out) also with --json
     #[arg(long)]
     pub plots: bool,
-    /// Write box files DIR/SEQUENCE.txt (SEQUENCE_TRACKER.txt with both trackers, and
-    /// _seedS before .txt with several seeds)
+    /// Write box files DIR/SEQUENCE.txt (SEQUENCE_TRACKER.txt with both trackers, then
+    /// _seedS with several seeds and _START with several starts, before .txt)
     #[arg(long, value_name = "DIR")]
     pub boxes: Option<PathBuf>,
     /// Write DIR/SEQUENCE/0001.png, ... with every run's estimate, status and confidence

@@ -2,7 +2,7 @@
 
 use super::args::DemoArgs;
 use super::report::{plot_pair, tracker_table};
-use super::runs::{overlay, track_frames, RunSpec};
+use super::runs::{overlay, track_frames, RunSpec, Start};
 use super::{create_dir, emit, fail, Failure, TrackerKind};
 use crate::draw;
 use crate::pixels::Frame;
@@ -30,7 +30,11 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let specs = TrackerKind::ALL.map(|tracker| {
         let mut config = Config::new(tracker.variant());
         scene.configure(&mut config);
-        RunSpec { tracker, config }
+        RunSpec {
+            tracker,
+            config,
+            start: Start::GIVEN,
+        }
     });
     let truth = scene.boxes();
     let n = scene.len();

@@ -4,7 +4,7 @@
 
 use super::args::EvalArgs;
 use super::report::{mean_rows, plot_pair, sequence_rows, sequence_table, MeanRow, SequenceRow};
-use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult};
+use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
     config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
     overrides, progress_bar, wrote, Failure, TrackerKind,
@@ -32,6 +32,7 @@ struct EvalJson<'a> {
     particles: usize,
     bins: Bins,
     seeds: &'a [u64],
+    starts: &'a [Start],
     format: &'static str,
     box_origin: &'static str,
     zero_based_sequences: &'a [String],
@@ -73,11 +74,18 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     {
         return Err(fail(format!("--seeds: seed {twice} is given twice")));
     }
+    let starts = args.starts.starts();
     let mut specs = Vec::new();
     for &tracker in &trackers {
         for &seed in &seeds {
             let config = config_for(&overrides, tracker, seed)?;
-            specs.push(RunSpec { tracker, config });
+            for &start in starts {
+                specs.push(RunSpec {
+                    tracker,
+                    config,
+                    start,
+                });
+            }
         }
     }
 
@@ -148,6 +156,9 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
                 if seeds.len() > 1 {
                     file += &format!("_seed{}", run.seed());
                 }
+                if starts.len() > 1 {
+                    file += &format!("_{}", run.start().name);
+                }
                 let path = dir.join(file + ".txt");
                 runs::write_boxes(&path, &run.boxes, s.origin)?;
                 written.push(path.display().to_string());
@@ -162,12 +173,12 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     }
 
     let rows = sequence_rows(&results, &trackers);
-    let means = mean_rows(&results, &trackers, &seeds);
+    let means = mean_rows(&results, &trackers, &seeds, starts);
     let seconds = started.elapsed().as_secs_f64();
     if args.json {
         let config = specs
             .iter()
-            .filter(|s| s.config.seed == seeds[0])
+            .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
             .map(|s| (s.tracker.name(), ConfigJson(&s.config)))
             .collect();
         let doc = EvalJson {
@@ -175,6 +186,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
             particles: args.config.particles,
             bins: args.config.bins,
             seeds: &seeds,
+            starts,
             format: args.format.name(),
             box_origin: args.convention.origin().name(),
             zero_based_sequences: &args.zero_based_sequences,
@@ -189,9 +201,15 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     } else {
         emit(out, &header(args, &results, &trackers, &seeds, &specs))?;
         let shown_means = if results.len() > 1 { &means[..] } else { &[] };
-        emit(out, &sequence_table(&rows, shown_means, seeds.len() > 1))?;
+        emit(
+            out,
+            &sequence_table(&rows, shown_means, specs.len() > trackers.len()),
+        )?;
         if seeds.len() > 1 {
             emit(out, &per_seed_means(&means))?;
+        }
+        if starts.len() > 1 {
+            emit(out, &per_start_means(&means))?;
         }
     }
     if !args.json || args.plots || args.out.is_some() {
@@ -235,12 +253,22 @@ fn header(
         seeds_text.join(", "),
         args.format
     );
-    if seeds.len() > 1 {
-        text += "; scores are means over the seeds, AUC min and max the lowest and highest \
-                 seed (for mean: of the set's mean AUC per seed)";
+    let starts = specs.len() / (seeds.len() * trackers.len()).max(1);
+    if starts > 1 {
+        text += &format!(
+            "; {starts} starts per seed (the first ground-truth box, shifted 2 px left, \
+             right, up and down, scaled by 0.95 and 1.05)"
+        );
+    }
+    if specs.len() > trackers.len() {
+        text += "; scores are means over the runs, AUC min and max the lowest and highest \
+                 run (for mean: of the set's mean AUC per seed)";
     }
     text += "; ms/frame is tracking only\n";
-    for s in specs.iter().filter(|s| s.config.seed == seeds[0]) {
+    for s in specs
+        .iter()
+        .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
+    {
         text += &format!("config {}: {}\n", s.tracker, config_summary(&s.config));
     }
     text + "\n"
@@ -257,6 +285,33 @@ fn per_seed_means(means: &[MeanRow]) -> String {
             .map(|s| format!("{} {:.3}", s.seed, s.scores.auc.unwrap_or(f64::NAN)))
             .collect();
         text += &format!(" {}: {};", m.tracker, per_seed.join(", "));
+    }
+    text.pop();
+    text + "\n"
+}
+
+/// The set's mean AUC from each start (over seeds), one line per tracker, and the mean
+/// over the perturbed starts.
+fn per_start_means(means: &[MeanRow]) -> String {
+    let mut text = String::from("mean AUC per start:");
+    for m in means {
+        let per_start: Vec<String> = m
+            .per_start
+            .iter()
+            .map(|s| format!("{} {:.3}", s.start, s.scores.auc.unwrap_or(f64::NAN)))
+            .collect();
+        let perturbed: Vec<f64> = m
+            .per_start
+            .iter()
+            .filter(|s| s.start != Start::GIVEN.name)
+            .filter_map(|s| s.scores.auc)
+            .collect();
+        let mean = perturbed.iter().sum::<f64>() / perturbed.len().max(1) as f64;
+        text += &format!(
+            " {}: {}, perturbed mean {mean:.3};",
+            m.tracker,
+            per_start.join(", ")
+        );
     }
     text.pop();
     text + "\n"
@@ -303,17 +358,21 @@ fn run_in_parallel(seqs: &[Sequence], plan: &Plan) -> Vec<Result<SequenceResult,
         .collect()
 }
 
-/// Every run of `plan` over one sequence, from its first ground-truth box, scored.
+/// Every run of `plan` over one sequence, from its start of the first ground-truth box,
+/// scored.
 fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
     let init = seq
         .init_box()
         .ok_or_else(|| fail(format!("{} is empty", sequence::GROUNDTRUTH_FILE)))?;
-    check_init(
-        &init,
-        seq.width,
-        seq.height,
-        &seq.origin.from_zero_based(init),
-    )?;
+    for spec in plan.specs {
+        let start = spec.start.apply(&init);
+        check_init(
+            &start,
+            seq.width,
+            seq.height,
+            &seq.origin.from_zero_based(start),
+        )?;
+    }
     let overlay = plan.overlay.map(|d| d.join(&seq.name));
     if let Some(dir) = &overlay {
         create_dir(dir)?;

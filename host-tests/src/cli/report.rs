@@ -1,7 +1,7 @@
 //! What the commands report: scores per run and over seeds, the tables, and the
 //! per-frame CSV. The JSON documents are built from these types (serde).
 
-use super::runs::{status_name, RunResult, SequenceResult};
+use super::runs::{status_name, RunResult, SequenceResult, Start};
 use super::{fail, Failure, TrackerKind};
 use crate::draw::{self, Series};
 use crate::sequence::GtOrigin;
@@ -57,27 +57,41 @@ impl Scores {
     }
 }
 
-/// One seed's scores.
+/// One seed's scores (of one start, or over the starts).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct SeedScores {
     /// The seed.
     pub seed: u64,
+    /// The start's name ([`Start::name`]); `None` over the starts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start: Option<&'static str>,
     /// Its scores.
     #[serde(flatten)]
     pub scores: Scores,
 }
 
-/// Scores over seeds: their mean, the lowest and highest AUC, and every seed's.
+/// One start's scores, means over the sequences and seeds.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StartScores {
+    /// The start's name ([`Start::name`]).
+    pub start: &'static str,
+    /// Its scores.
+    #[serde(flatten)]
+    pub scores: Scores,
+}
+
+/// Scores over runs (seeds, and starts): their mean, the lowest and highest AUC, and every
+/// run's.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct OverSeeds {
     /// Means over the seeds.
     #[serde(flatten)]
     pub mean: Scores,
-    /// Lowest AUC of a seed.
+    /// Lowest AUC of a run.
     pub auc_min: Option<f64>,
-    /// Highest AUC of a seed.
+    /// Highest AUC of a run.
     pub auc_max: Option<f64>,
-    /// Each seed's scores, in the order run.
+    /// Each run's scores, in the order run.
     pub per_seed: Vec<SeedScores>,
 }
 
@@ -121,6 +135,9 @@ pub struct MeanRow {
     /// The set's mean per seed and over seeds.
     #[serde(flatten)]
     pub scores: OverSeeds,
+    /// The set's mean per start over the seeds (with several starts).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub per_start: Vec<StartScores>,
 }
 
 /// One row per sequence and tracker (in `trackers` order), over each tracker's seeds.
@@ -134,6 +151,7 @@ pub fn sequence_rows(results: &[SequenceResult], trackers: &[TrackerKind]) -> Ve
                 .filter(|r| r.tracker() == tracker)
                 .map(|r| SeedScores {
                     seed: r.seed(),
+                    start: Some(r.start().name),
                     scores: Scores::of(r),
                 })
                 .collect();
@@ -150,12 +168,14 @@ pub fn sequence_rows(results: &[SequenceResult], trackers: &[TrackerKind]) -> Ve
     rows
 }
 
-/// Per tracker, the set's mean over the sequences with ground truth for each seed, and
-/// over the seeds; `None` for a tracker without such sequences.
+/// Per tracker, the set's mean over the sequences with ground truth for each seed (over
+/// the starts), and over the seeds; with several `starts`, also for each start; `None`
+/// for a tracker without such sequences.
 pub fn mean_rows(
     results: &[SequenceResult],
     trackers: &[TrackerKind],
     seeds: &[u64],
+    starts: &[Start],
 ) -> Vec<MeanRow> {
     trackers
         .iter()
@@ -171,26 +191,39 @@ pub fn mean_rows(
             if scored.is_empty() {
                 return None;
             }
+            let mean_of = |keep: &dyn Fn(&RunResult) -> bool| {
+                let runs: Vec<Scores> = scored
+                    .iter()
+                    .flat_map(|s| &s.runs)
+                    .filter(|r| r.tracker() == tracker && keep(r))
+                    .map(Scores::of)
+                    .collect();
+                Scores::mean(&runs)
+            };
             let per_seed = seeds
                 .iter()
-                .map(|&seed| {
-                    let runs: Vec<Scores> = scored
-                        .iter()
-                        .flat_map(|s| &s.runs)
-                        .filter(|r| r.tracker() == tracker && r.seed() == seed)
-                        .map(Scores::of)
-                        .collect();
-                    SeedScores {
-                        seed,
-                        scores: Scores::mean(&runs),
-                    }
+                .map(|&seed| SeedScores {
+                    seed,
+                    start: None,
+                    scores: mean_of(&|r| r.seed() == seed),
                 })
                 .collect();
+            let per_start = match starts {
+                [_] => Vec::new(),
+                _ => starts
+                    .iter()
+                    .map(|&start| StartScores {
+                        start: start.name,
+                        scores: mean_of(&|r| r.start() == start),
+                    })
+                    .collect(),
+            };
             Some(MeanRow {
                 tracker,
                 sequences: scored.len(),
                 frames: scored.iter().map(|s| s.frames).sum(),
                 scores: OverSeeds::new(per_seed),
+                per_start,
             })
         })
         .collect()

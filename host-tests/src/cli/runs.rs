@@ -8,16 +8,70 @@ use crate::pixels::Frame;
 use crate::run::{self, Options, RunError, Shape};
 use crate::sequence::GtOrigin;
 use rbtrack::tracker::{Config, ConfigError, Estimate, Status};
+use serde::Serialize;
 use std::path::Path;
 use std::time::Duration;
 
-/// One run to make: a filter and its configuration (the seed included).
+/// One run to make: a filter, its configuration (the seed included) and its first box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunSpec {
     /// The filter.
     pub tracker: TrackerKind,
     /// Its configuration, checked.
     pub config: Config,
+    /// Where its first box lies against the given one.
+    pub start: Start,
+}
+
+/// A run's first box: the given (ground-truth) box shifted by `dx`, `dy` px and scaled by
+/// `scale` about its centre, as in OTB's spatial robustness evaluation (SRE).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Start {
+    /// Short name (`box`, `left2`, ..., `scale1.05`), for tables and file names.
+    pub name: &'static str,
+    /// Shift to the right, px.
+    pub dx: f64,
+    /// Shift down, px.
+    pub dy: f64,
+    /// Width and height factor.
+    pub scale: f64,
+}
+
+impl Start {
+    /// The given box itself.
+    pub const GIVEN: Start = Start::new("box", 0.0, 0.0, 1.0);
+
+    /// The spatial robustness starts: the box, shifted 2 px left, right, up and down,
+    /// and scaled by 0.95 and 1.05.
+    pub const SPATIAL: [Start; 7] = [
+        Start::GIVEN,
+        Start::new("left2", -2.0, 0.0, 1.0),
+        Start::new("right2", 2.0, 0.0, 1.0),
+        Start::new("up2", 0.0, -2.0, 1.0),
+        Start::new("down2", 0.0, 2.0, 1.0),
+        Start::new("scale0.95", 0.0, 0.0, 0.95),
+        Start::new("scale1.05", 0.0, 0.0, 1.05),
+    ];
+
+    const fn new(name: &'static str, dx: f64, dy: f64, scale: f64) -> Self {
+        Self {
+            name,
+            dx,
+            dy,
+            scale,
+        }
+    }
+
+    /// `given` moved to this start.
+    pub fn apply(&self, given: &BBox) -> BBox {
+        let (w, h) = (given.w * self.scale, given.h * self.scale);
+        BBox {
+            x: given.x + (given.w - w) / 2.0 + self.dx,
+            y: given.y + (given.h - h) / 2.0 + self.dy,
+            w,
+            h,
+        }
+    }
 }
 
 /// One run over one sequence.
@@ -44,6 +98,11 @@ impl RunResult {
     /// The seed of its random draws.
     pub fn seed(&self) -> u64 {
         self.spec.config.seed
+    }
+
+    /// Its first box against the given one.
+    pub fn start(&self) -> Start {
+        self.spec.start
     }
 
     /// Tracking-only milliseconds per frame after the first; `None` for one frame.
@@ -102,8 +161,8 @@ fn run_error(e: RunError, config: &Config) -> Failure {
     }
 }
 
-/// Runs every spec in trackers of `shape` over `frames` from `init`, the 0-based box
-/// of the first frame, each frame decoded once for all of them. After each frame is
+/// Runs every spec in trackers of `shape` over `frames` from its start of `init`, the
+/// 0-based box of the first frame, each frame decoded once for all of them. After each frame is
 /// tracked, `on_frame(index, frame, runs)` sees it with the runs so far (their last
 /// estimate is this frame's), e.g. to draw it. Results carry no evaluation.
 pub fn track_frames<I>(
@@ -137,9 +196,10 @@ where
             config: r.spec.config,
             shape,
         };
+        let init = r.spec.start.apply(init);
         let runner =
-            run::start(&options, &first, init).map_err(|e| run_error(e, &r.spec.config))?;
-        r.boxes.push(*init);
+            run::start(&options, &first, &init).map_err(|e| run_error(e, &r.spec.config))?;
+        r.boxes.push(init);
         r.estimates.push(runner.estimate());
         runners.push(runner);
     }

@@ -3,7 +3,7 @@
 use super::args::TrackArgs;
 use super::input::Input;
 use super::report::{self, per_frame_csv, Scores, SeedScores};
-use super::runs::{self, box_line, check_init, create_parent, write_overlay, RunSpec};
+use super::runs::{self, box_line, check_init, create_parent, write_overlay, RunSpec, Start};
 use super::{
     config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
     overrides, progress_bar, wrote, Failure, TrackerKind,
@@ -67,6 +67,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let spec = RunSpec {
         tracker,
         config: config_for(&overrides, tracker, seed)?,
+        start: Start::GIVEN,
     };
     let format = args.raw.map_or(args.format, |raw| raw.format);
     if let Some(dir) = &args.overlay {
@@ -135,7 +136,11 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             sequence: name.clone(),
             tracker,
             frames,
-            scores: report::OverSeeds::new(vec![SeedScores { seed, scores }]),
+            scores: report::OverSeeds::new(vec![SeedScores {
+                seed,
+                start: None,
+                scores,
+            }]),
         }];
         emit(out, &report::sequence_table(&rows, &[], false))?;
         emit(
