@@ -24,22 +24,26 @@ pub enum Format {
     /// 24-bit RGB, bytes R, G, B (`Rgb888`).
     #[value(name = "rgb888")]
     Rgb888,
-    /// YUV 4:2:2 as YUYV, 4 bytes per pair of pixels (`Yuv422`); the width is even.
+    /// YUV 4:2:2 as YUYV, 4 bytes per pair of pixels (`Yuyv`); the width is even.
     #[value(name = "yuyv")]
     Yuyv,
+    /// YUV 4:2:2 as UYVY, 4 bytes per pair of pixels (`Uyvy`); the width is even.
+    #[value(name = "uyvy")]
+    Uyvy,
 }
 
 impl Format {
     /// Every format, in the order of the command line's choices.
-    pub const ALL: [Format; 5] = [
+    pub const ALL: [Format; 6] = [
         Self::Gray8,
         Self::Rgb565Le,
         Self::Rgb565Be,
         Self::Rgb888,
         Self::Yuyv,
+        Self::Uyvy,
     ];
 
-    /// Command-line name: `gray8`, `rgb565le`, `rgb565be`, `rgb888` or `yuyv`.
+    /// Command-line name: `gray8`, `rgb565le`, `rgb565be`, `rgb888`, `yuyv` or `uyvy`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Gray8 => "gray8",
@@ -47,6 +51,7 @@ impl Format {
             Self::Rgb565Be => "rgb565be",
             Self::Rgb888 => "rgb888",
             Self::Yuyv => "yuyv",
+            Self::Uyvy => "uyvy",
         }
     }
 
@@ -55,15 +60,16 @@ impl Format {
         <Self as clap::ValueEnum>::from_str(name, true).ok()
     }
 
-    /// Bytes of one `width x height` frame; `None` for a zero size, an odd YUYV width or
-    /// a size that overflows.
+    /// Bytes of one `width x height` frame; `None` for a zero size, an odd YUV 4:2:2
+    /// width or a size that overflows.
     pub fn frame_bytes(self, width: u32, height: u32) -> Option<usize> {
-        if width == 0 || height == 0 || (self == Self::Yuyv && width % 2 == 1) {
+        let yuv422 = matches!(self, Self::Yuyv | Self::Uyvy);
+        if width == 0 || height == 0 || (yuv422 && width % 2 == 1) {
             return None;
         }
         let per_pixel = match self {
             Self::Gray8 => 1,
-            Self::Rgb565Le | Self::Rgb565Be | Self::Yuyv => 2,
+            Self::Rgb565Le | Self::Rgb565Be | Self::Yuyv | Self::Uyvy => 2,
             Self::Rgb888 => 3,
         };
         (width as usize)
@@ -178,11 +184,16 @@ impl Frame {
                     [r, g, b]
                 })
                 .collect(),
-            Format::Yuyv => b
+            Format::Yuyv | Format::Uyvy => b
                 .chunks_exact(4)
                 .flat_map(|p| {
-                    let (r0, g0, b0) = yuv_to_rgb(p[0], p[1], p[3]);
-                    let (r1, g1, b1) = yuv_to_rgb(p[2], p[1], p[3]);
+                    // [Y0, U, Y1, V] for YUYV, [U, Y0, V, Y1] for UYVY.
+                    let [y0, u, y1, v] = match self.format {
+                        Format::Uyvy => [p[1], p[0], p[3], p[2]],
+                        _ => [p[0], p[1], p[2], p[3]],
+                    };
+                    let (r0, g0, b0) = yuv_to_rgb(y0, u, v);
+                    let (r1, g1, b1) = yuv_to_rgb(y1, u, v);
                     [r0, g0, b0, r1, g1, b1]
                 })
                 .collect(),
@@ -209,13 +220,17 @@ impl Frame {
                 .chunks_exact(3)
                 .flat_map(|p| rgb888_to_rgb565(p[0], p[1], p[2]).to_be_bytes())
                 .collect(),
-            Format::Yuyv => rgb
+            Format::Yuyv | Format::Uyvy => rgb
                 .chunks_exact(6)
                 .flat_map(|p| {
                     let (y0, u0, v0) = rgb_to_yuv(p[0], p[1], p[2]);
                     let (y1, u1, v1) = rgb_to_yuv(p[3], p[4], p[5]);
                     let mid = |a: u8, b: u8| (a as u16 + b as u16).div_ceil(2) as u8;
-                    [y0, mid(u0, u1), y1, mid(v0, v1)]
+                    let (u, v) = (mid(u0, u1), mid(v0, v1));
+                    match format {
+                        Format::Uyvy => [u, y0, v, y1],
+                        _ => [y0, u, y1, v],
+                    }
                 })
                 .collect(),
         };
@@ -265,12 +280,18 @@ mod tests {
         assert_eq!(yuyv.bytes[3], (v0 as u16 + v1 as u16).div_ceil(2) as u8);
         let (r, g, b) = yuv_to_rgb(y0, yuyv.bytes[1], yuyv.bytes[3]);
         assert_eq!(yuyv.to_rgb888()[..3], [r, g, b]);
+        // UYVY holds the same samples, chroma first; both read back to the same RGB.
+        let uyvy = yuyv.clone().convert(Format::Uyvy).unwrap();
+        let b = &yuyv.bytes;
+        assert_eq!(uyvy.bytes, [b[1], b[0], b[3], b[2]]);
+        assert_eq!(uyvy.to_rgb888(), yuyv.to_rgb888());
     }
 
     #[test]
     fn sizes_are_checked() {
         assert_eq!(Format::Yuyv.frame_bytes(4, 3), Some(24));
         assert_eq!(Format::Yuyv.frame_bytes(3, 3), None);
+        assert_eq!(Format::Uyvy.frame_bytes(3, 3), None);
         assert_eq!(Format::Gray8.frame_bytes(0, 3), None);
         assert_eq!(
             Frame::new(Format::Rgb888, 2, 2, vec![0; 11]),

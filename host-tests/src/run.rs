@@ -11,7 +11,7 @@ use crate::pixels::{Format, Frame};
 use rbtrack::fixed::Q16;
 use rbtrack::image::{
     Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4, Rgb8x8x8,
-    Yuv422, Yuv8x8x4,
+    Uyvy, Yuv8x8x4, Yuyv,
 };
 use rbtrack::tracker::{Config, ConfigError, Estimate, Tracker, Variant};
 use rbtrack::window::Ellipse;
@@ -179,7 +179,11 @@ macro_rules! with_view {
                 $body
             }
             Format::Yuyv => {
-                let $view = view::<Yuv422>($frame)?;
+                let $view = view::<Yuyv>($frame)?;
+                $body
+            }
+            Format::Uyvy => {
+                let $view = view::<Uyvy>($frame)?;
                 $body
             }
         }

@@ -617,7 +617,7 @@ fn raw_dump() {
     let seq = dir.join("Tiny");
     let truth = write_sequence(&seq, 9);
     let scene = scene(9);
-    for format in [Format::Rgb565Le, Format::Yuyv, Format::Gray8] {
+    for format in [Format::Rgb565Le, Format::Yuyv, Format::Uyvy, Format::Gray8] {
         let dump = dir.join(format!("dump.{format}"));
         let bytes: Vec<u8> = (0..FRAMES)
             .flat_map(|i| {
@@ -746,6 +746,70 @@ fn mp4_video() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// A damaged or cut video ends with a one-line error naming the last frame read and a
+/// non-zero exit, the files keeping the frames tracked before it: an MP4 cut short (index
+/// at the front, so ffmpeg decodes what is left without failing) and an MPEG-TS stream
+/// cut in the middle of a frame. A video without --init is asked for one.
+#[test]
+fn damaged_videos_end_with_an_error() {
+    let dir = temp_dir("damaged");
+    const MADE: usize = 60;
+    for (name, extra, kept_tenths) in [
+        ("whole.mp4", &["-movflags", "+faststart"][..], 7),
+        ("whole.ts", &[][..], 4),
+    ] {
+        let whole = dir.join(name);
+        let made = Command::new("ffmpeg")
+            .args(["-v", "error", "-nostdin", "-f", "lavfi", "-i"])
+            .arg(format!("testsrc=size={W}x{H}:rate=25"))
+            .args(["-frames:v", &MADE.to_string(), "-pix_fmt", "yuv420p"])
+            .args(extra)
+            .arg(&whole)
+            .status();
+        match made {
+            Ok(status) => assert!(status.success(), "ffmpeg could not make {name}"),
+            Err(e) => {
+                println!("SKIPPED damaged_videos_end_with_an_error: cannot run ffmpeg ({e})");
+                return;
+            }
+        }
+        let bytes = std::fs::read(&whole).unwrap();
+        let cut = dir.join(format!("cut-{name}"));
+        std::fs::write(&cut, &bytes[..bytes.len() * kept_tenths / 10]).unwrap();
+        let (boxes, csv) = (dir.join("boxes.txt"), dir.join("frames.csv"));
+        let o = rbtrack(&[
+            "track",
+            path(&cut),
+            "--init",
+            "30,20,20,20",
+            "--boxes",
+            path(&boxes),
+            "--per-frame",
+            path(&csv),
+        ]);
+        assert_one_line_error(&o, name, "frame");
+        assert_eq!(o.status.code(), Some(1), "{name}");
+        let err = stderr(&o);
+        let kept = std::fs::read_to_string(&boxes).unwrap().lines().count();
+        assert!(0 < kept && kept < MADE, "{name}: {kept} boxes");
+        assert!(
+            err.contains(&format!("the {kept} frames before it")),
+            "{err}"
+        );
+        let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+        assert_eq!(rows, kept + 1, "{name}");
+        // The whole video tracks to its end.
+        let o = rbtrack(&["track", path(&whole), "--init", "30,20,20,20", "--json"]);
+        assert_eq!(json(&o)["frames"], MADE, "{name}");
+    }
+    assert_one_line_error(
+        &rbtrack(&["track", path(&dir.join("whole.mp4"))]),
+        "video without --init",
+        "a video or raw dump has no ground truth: give the first frame's box with --init",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// Without ffmpeg on PATH a video is refused with a hint, not a panic.
 #[test]
 fn video_without_ffmpeg() {
@@ -788,6 +852,12 @@ fn errors_are_one_line_without_panic() {
         &rbtrack(&["track", s, "--init", "1,2,3"]),
         "bad init",
         "x,y,w,h",
+    );
+    // Which fault of the box it is, said plainly.
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--init", "10,10,3,20"]),
+        "init too small",
+        "3.00x20.00 px is too small: its width and height must be at least 4 px",
     );
     for bad in ["7", "0", "many", "-1"] {
         assert_one_line_error(
@@ -983,7 +1053,13 @@ fn frames_dump_is_what_track_reads() {
         assert_eq!(&bytes[i * frame..(i + 1) * frame], png.as_raw().as_slice());
     }
     let groundtruth = seq.join(GROUNDTRUTH_FILE);
-    let from_folder = json(&rbtrack(&["track", path(&seq), "--particles", "25", "--json"]));
+    let from_folder = json(&rbtrack(&[
+        "track",
+        path(&seq),
+        "--particles",
+        "25",
+        "--json",
+    ]));
     let from_dump = json(&rbtrack(&[
         "track",
         path(&dump),
@@ -1014,7 +1090,10 @@ fn eval_from_spatial_starts() {
     let data = dir.join("data");
     // The scene's first box is 4 px wide, the smallest a tracker starts from: grow the
     // boxes by 4 px so that the 0.95 start stays usable.
-    let lines = grown(&data.join("Alpha"), &write_sequence(&data.join("Alpha"), 21));
+    let lines = grown(
+        &data.join("Alpha"),
+        &write_sequence(&data.join("Alpha"), 21),
+    );
     grown(&data.join("Beta"), &write_sequence(&data.join("Beta"), 22));
     let common = ["eval", path(&data), "--particles", "25", "--seeds", "1,2"];
     let mut args = common.to_vec();

@@ -171,7 +171,7 @@ pub struct TrackArgs {
     #[arg(long, value_enum, value_name = "F", default_value = "rgb888")]
     pub format: Format,
     /// INPUT is a raw dump: frames of WIDTHxHEIGHT px back to back in FORMAT (gray8,
-    /// rgb565le, rgb565be, rgb888, yuyv), handed to the tracker as they are
+    /// rgb565le, rgb565be, rgb888, yuyv, uyvy), handed to the tracker as they are
     #[arg(long, value_name = "WxH:FORMAT", conflicts_with = "format")]
     pub raw: Option<RawLayout>,
     /// Initial box instead of the first ground-truth line (in the box convention)

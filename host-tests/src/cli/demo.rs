@@ -69,7 +69,8 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
             }
             Ok(())
         },
-    )?;
+    )?
+    .complete()?;
     for r in &mut runs {
         r.score(&truth);
     }

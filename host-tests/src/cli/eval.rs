@@ -395,7 +395,8 @@ fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
             ),
             None => Ok(()),
         }
-    })?;
+    })?
+    .complete()?;
     for r in &mut runs {
         r.score(&seq.groundtruth);
     }

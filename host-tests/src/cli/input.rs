@@ -224,6 +224,9 @@ impl RawDump {
     }
 }
 
+/// Bytes of an MPEG transport stream packet: a `.ts` file of another size is cut short.
+const TS_PACKET_BYTES: u64 = 188;
+
 /// A video file, decoded by `ffmpeg`.
 #[derive(Debug)]
 pub struct Video {
@@ -232,6 +235,8 @@ pub struct Video {
     height: u32,
     /// The container's frame count, when it states one.
     frames: Option<usize>,
+    /// An MPEG transport stream that ends inside a packet.
+    cut_packet: bool,
 }
 
 /// Runs a tool; the error says how to get it when it is missing.
@@ -263,7 +268,7 @@ impl Video {
         let child = spawn(
             Command::new("ffprobe")
                 .args(["-v", "error", "-select_streams", "v:0", "-show_entries"])
-                .arg("stream=width,height,nb_frames:stream_side_data=rotation")
+                .arg("stream=width,height,nb_frames:stream_side_data=rotation:format=format_name")
                 .args(["-of", "json"])
                 .arg(path)
                 .stdin(Stdio::null())
@@ -297,11 +302,14 @@ impl Video {
             (width, height)
         };
         let frames = stream["nb_frames"].as_str().and_then(|n| n.parse().ok());
+        let transport = probe["format"]["format_name"] == "mpegts";
+        let size = std::fs::metadata(path).map_or(0, |m| m.len());
         Ok(Self {
             path: path.to_path_buf(),
             width,
             height,
             frames,
+            cut_packet: transport && !size.is_multiple_of(TS_PACKET_BYTES),
         })
     }
 
@@ -334,6 +342,9 @@ impl Video {
             path: self.path.clone(),
             width: self.width,
             height: self.height,
+            stated: self.frames,
+            cut_packet: self.cut_packet,
+            decoded: 0,
         })
     }
 }
@@ -346,10 +357,19 @@ struct VideoFrames {
     path: PathBuf,
     width: u32,
     height: u32,
+    /// The container's frame count, when it states one.
+    stated: Option<usize>,
+    /// An MPEG transport stream that ends inside a packet.
+    cut_packet: bool,
+    /// Frames read so far.
+    decoded: usize,
 }
 
 impl VideoFrames {
-    /// Waits for `ffmpeg` at the end of its output; an error if it failed.
+    /// Waits for `ffmpeg` at the end of its output: an error, naming the last frame read,
+    /// if it failed, reported an error (a damaged stream it decoded around), gave fewer
+    /// frames than the container states, or read a transport stream that ends inside a
+    /// packet (files cut short).
     fn finish(&mut self) -> Result<(), Failure> {
         let status = self
             .child
@@ -360,15 +380,33 @@ impl VideoFrames {
             .take()
             .and_then(|h| h.join().ok())
             .unwrap_or_default();
-        if status.success() {
-            Ok(())
-        } else {
-            Err(fail(format!(
-                "cannot decode video {}: ffmpeg: {}",
-                self.path.display(),
+        let (path, decoded) = (self.path.display(), self.decoded);
+        let first_error = stderr.lines().map(str::trim).find(|l| !l.is_empty());
+        if !status.success() {
+            return Err(fail(format!(
+                "cannot decode video {path} after frame {decoded}: ffmpeg: {}",
                 last_line(&stderr)
-            )))
+            )));
         }
+        if let Some(stated) = self.stated.filter(|&n| decoded < n) {
+            let why = first_error.map_or(String::new(), |e| format!(" (ffmpeg: {e})"));
+            return Err(fail(format!(
+                "video {path} ends after frame {decoded} of the {stated} its container \
+                 states: the file is cut short or damaged{why}"
+            )));
+        }
+        if let Some(e) = first_error {
+            return Err(fail(format!(
+                "video {path} is damaged: ffmpeg reported errors by frame {decoded}: {e}"
+            )));
+        }
+        if self.cut_packet {
+            return Err(fail(format!(
+                "video {path} ends inside a {TS_PACKET_BYTES}-byte transport packet after \
+                 frame {decoded}: the file is cut short"
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -380,7 +418,8 @@ impl Iterator for VideoFrames {
         let len = Format::Rgb888.frame_bytes(self.width, self.height)?;
         let frame = match read_frame(reader, len) {
             Ok(Some(rgb)) => {
-                return Some(Frame::rgb888(self.width, self.height, rgb).map_err(fail))
+                self.decoded += 1;
+                return Some(Frame::rgb888(self.width, self.height, rgb).map_err(fail));
             }
             Ok(None) => self.finish().err(),
             Err(e) => Some(self.finish().err().unwrap_or_else(|| {

@@ -372,7 +372,8 @@ pub const PER_FRAME_HEADER: &str = "frame,x,y,w,h,cx,cy,hx,hy,vx,vy,confidence,s
 
 /// One CSV row per frame of `run`: the frame number (from 1), the box `x,y,w,h` and the
 /// ellipse centre `cx,cy` in `origin`'s convention, the half-axes `hx,hy` (px), the
-/// velocity `vx,vy` (px/frame), the confidence (0..1) and the status.
+/// velocity `vx,vy` (px/frame; 0 under a motion model that keeps no velocity, the
+/// default), the confidence (0..1) and the status.
 pub fn per_frame_csv(run: &RunResult, origin: GtOrigin) -> String {
     let mut out = String::from(PER_FRAME_HEADER);
     out.push('\n');

@@ -150,33 +150,64 @@ pub fn check_init(init: &BBox, width: u32, height: u32, shown: &BBox) -> Result<
     Ok(())
 }
 
-fn run_error(e: RunError, config: &Config) -> Failure {
-    match e {
-        RunError::Config(ConfigError::InitialEllipse) => fail(format!(
-            "initial box too small (width and height must be at least {} px) or centred \
-             outside the frame",
-            2.0 * config.min_half_axis.to_f64()
-        )),
-        e => fail(e),
+/// The error of a tracker that did not start from `init` (0-based) on a `width x height`
+/// frame: which of the initial box's faults it is, when it is the box.
+fn start_error(e: RunError, config: &Config, init: &BBox, width: u32, height: u32) -> Failure {
+    if !matches!(e, RunError::Config(ConfigError::InitialEllipse)) {
+        return fail(e);
+    }
+    let min = 2.0 * config.min_half_axis.to_f64();
+    if init.w < min || init.h < min {
+        return fail(format!(
+            "initial box {:.2}x{:.2} px is too small: its width and height must be at least \
+             {min} px",
+            init.w, init.h
+        ));
+    }
+    let (cx, cy) = init.centre();
+    fail(format!(
+        "initial box centred at ({cx:.2}, {cy:.2}) is outside the {width}x{height} frame"
+    ))
+}
+
+/// What [`track_frames`] made: every run's results over the frames tracked, and why it
+/// stopped early, if it did (a frame that could not be read or tracked, or a failure of
+/// `on_frame`).
+pub struct Tracked {
+    /// One entry per run, in the order of the specs.
+    pub runs: Vec<RunResult>,
+    /// The failure that ended the runs before the last frame.
+    pub stopped: Option<Failure>,
+}
+
+impl Tracked {
+    /// The runs, or the failure that stopped them.
+    pub fn complete(self) -> Result<Vec<RunResult>, Failure> {
+        match self.stopped {
+            Some(f) => Err(f),
+            None => Ok(self.runs),
+        }
     }
 }
 
 /// Runs every spec in trackers of `shape` over `frames` from its start of `init`, the
-/// 0-based box of the first frame, each frame decoded once for all of them. After each frame is
-/// tracked, `on_frame(index, frame, runs)` sees it with the runs so far (their last
-/// estimate is this frame's), e.g. to draw it. Results carry no evaluation.
+/// 0-based box of the first frame, each frame decoded once for all of them. After each
+/// frame is tracked, `on_frame(index, frame, runs)` sees it with the runs so far (their
+/// last estimate is this frame's), e.g. to draw it. Results carry no evaluation. A failure
+/// before the first frame is tracked is an error; a later one ends the runs and is kept in
+/// [`Tracked::stopped`] with the results so far.
 pub fn track_frames<I>(
     specs: &[RunSpec],
     shape: Shape,
     frames: I,
     init: &BBox,
     mut on_frame: impl FnMut(usize, &Frame, &[RunResult]) -> Result<(), Failure>,
-) -> Result<Vec<RunResult>, Failure>
+) -> Result<Tracked, Failure>
 where
     I: IntoIterator<Item = Result<Frame, Failure>>,
 {
     let mut frames = frames.into_iter();
-    let mut results: Vec<RunResult> = specs
+    let mut runs: Vec<RunResult> = specs
         .iter()
         .map(|&spec| RunResult {
             spec,
@@ -187,36 +218,52 @@ where
         })
         .collect();
     let Some(first) = frames.next() else {
-        return Ok(results);
+        return Ok(Tracked {
+            runs,
+            stopped: None,
+        });
     };
     let first = first?;
     let mut runners = Vec::with_capacity(specs.len());
-    for r in &mut results {
+    for r in &mut runs {
         let options = Options {
             config: r.spec.config,
             shape,
         };
         let init = r.spec.start.apply(init);
-        let runner =
-            run::start(&options, &first, &init).map_err(|e| run_error(e, &r.spec.config))?;
+        let runner = run::start(&options, &first, &init)
+            .map_err(|e| start_error(e, &r.spec.config, &init, first.width, first.height))?;
         r.boxes.push(init);
         r.estimates.push(runner.estimate());
         runners.push(runner);
     }
-    on_frame(0, &first, &results)?;
+    let mut stopped = on_frame(0, &first, &runs).err();
     for (index, frame) in (1..).zip(frames) {
-        let frame = frame?;
-        for (runner, r) in runners.iter_mut().zip(&mut results) {
-            let step = runner
-                .step(&frame)
-                .map_err(|e| run_error(e, &r.spec.config))?;
-            r.tracking += step.elapsed;
-            r.boxes.push(step.bbox);
-            r.estimates.push(step.estimate);
+        if stopped.is_some() {
+            break;
         }
-        on_frame(index, &frame, &results)?;
+        let frame = match frame {
+            Ok(frame) => frame,
+            Err(e) => {
+                stopped = Some(e);
+                break;
+            }
+        };
+        for (runner, r) in runners.iter_mut().zip(&mut runs) {
+            match runner.step(&frame) {
+                Ok(step) => {
+                    r.tracking += step.elapsed;
+                    r.boxes.push(step.bbox);
+                    r.estimates.push(step.estimate);
+                }
+                Err(e) => stopped = Some(fail(e)),
+            }
+        }
+        if stopped.is_none() {
+            stopped = on_frame(index, &frame, &runs).err();
+        }
     }
-    Ok(results)
+    Ok(Tracked { runs, stopped })
 }
 
 /// Lower-case name of a status: `tracking`, `uncertain` or `lost`.

@@ -3,14 +3,16 @@
 use super::args::TrackArgs;
 use super::input::Input;
 use super::report::{self, per_frame_csv, Scores, SeedScores};
-use super::runs::{self, box_line, check_init, create_parent, write_overlay, RunSpec, Start};
+use super::runs::{
+    self, box_line, check_init, create_parent, write_overlay, RunResult, RunSpec, Start,
+};
 use super::{
     config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
     overrides, progress_bar, wrote, Failure, TrackerKind,
 };
 use crate::config_fields::ConfigJson;
 use crate::run::Bins;
-use crate::sequence::{self, read_groundtruth};
+use crate::sequence::{self, read_groundtruth, GtOrigin};
 use serde::Serialize;
 use std::io::Write;
 
@@ -43,6 +45,13 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
         Some(b) => (origin.to_zero_based(b), b),
         None => {
             let b = groundtruth.first().copied().ok_or_else(|| {
+                if args.groundtruth.is_none() && !matches!(input, Input::Folder(_)) {
+                    return fail(format!(
+                        "{}: a video or raw dump has no ground truth: give the first frame's \
+                         box with --init x,y,w,h (or a box file with --groundtruth FILE)",
+                        args.input.display()
+                    ));
+                }
                 let file = match &args.groundtruth {
                     Some(path) => path.clone(),
                     None => args.input.join(sequence::GROUNDTRUTH_FILE),
@@ -77,7 +86,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let name = input.name();
     let bar = progress_bar(input.len().map(|n| n as u64), &name);
     let frames = input.frames(format)?;
-    let mut runs = runs::track_frames(
+    let runs::Tracked { mut runs, stopped } = runs::track_frames(
         &[spec],
         args.config.shape(),
         frames,
@@ -96,6 +105,18 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
     };
     run.score(&groundtruth);
     let frames = run.estimates.len();
+    if let Some(failure) = stopped {
+        // What was tracked before the failure is kept: the box and per-frame files.
+        let kept = write_files(args, run, origin, out)?;
+        let kept = if kept {
+            "; the files hold"
+        } else {
+            "; tracked"
+        };
+        return Err(fail(format!(
+            "{failure}{kept} the {frames} frames before it"
+        )));
+    }
     if !groundtruth.is_empty() && groundtruth.len() != frames {
         eprintln!(
             "rbtrack track: note: {} ground-truth boxes for {frames} frames; scoring the first {}",
@@ -152,6 +173,22 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             },
         )?;
     }
+    write_files(args, run, origin, out)?;
+    if let Some(dir) = &args.overlay {
+        let what = format!("{frames} overlay frames into {}", dir.display());
+        wrote(out, args.json, &what)?;
+    }
+    Ok(())
+}
+
+/// Writes the box file (`--boxes`) and the per-frame CSV (`--per-frame`) of `run`;
+/// whether any was asked for.
+fn write_files(
+    args: &TrackArgs,
+    run: &RunResult,
+    origin: GtOrigin,
+    out: &mut dyn Write,
+) -> Result<bool, Failure> {
     if let Some(path) = &args.boxes {
         runs::write_boxes(path, &run.boxes, origin)?;
         wrote(out, args.json, &path.display().to_string())?;
@@ -162,9 +199,5 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             .map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
         wrote(out, args.json, &path.display().to_string())?;
     }
-    if let Some(dir) = &args.overlay {
-        let what = format!("{frames} overlay frames into {}", dir.display());
-        wrote(out, args.json, &what)?;
-    }
-    Ok(())
+    Ok(args.boxes.is_some() || args.per_frame.is_some())
 }
