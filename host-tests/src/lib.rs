@@ -5,6 +5,7 @@ pub mod cli;
 pub mod config_fields;
 pub mod draw;
 pub mod faults;
+pub mod loss;
 pub mod metrics;
 pub mod paper;
 pub mod pixels;

@@ -954,6 +954,7 @@ fn eval_two_sequences() {
     let text = stdout(&o);
     let rows: Vec<&str> = text
         .lines()
+        .take_while(|l| !l.starts_with("loss detection"))
         .filter(|l| ["Alpha", "Beta", "mean"].iter().any(|n| l.starts_with(n)))
         .collect();
     assert_eq!(rows.len(), 3, "{text}");
@@ -1253,6 +1254,8 @@ fn eval_over_seeds() {
     }
     for m in doc["mean"].as_array().unwrap() {
         let tracker = m["tracker"].as_str().unwrap();
+        let lost = m["loss"]["lost_share"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&lost), "{m}");
         let per_seed = m["per_seed"].as_array().unwrap();
         for (k, p) in per_seed.iter().enumerate() {
             // A seed's set mean is the mean over sequences of that seed's AUC.
@@ -1313,6 +1316,15 @@ fn eval_over_seeds() {
     });
     assert_eq!(mean_rows.count(), 2, "{text}");
     assert!(text.contains("config rbpf: colour_sigma=0.15"), "{text}");
+    // The loss-detection table: a row per sequence and tracker and one per tracker.
+    let loss_rows = text
+        .lines()
+        .skip_while(|l| !l.starts_with("loss detection"))
+        .filter(|l| {
+            ["Alpha", "Beta", "Zero", "all"].contains(&l.split_whitespace().next().unwrap_or(""))
+        })
+        .count();
+    assert_eq!(loss_rows, 8, "{text}");
     let per_seed = text
         .lines()
         .find(|l| l.starts_with("mean AUC per seed"))

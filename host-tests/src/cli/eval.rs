@@ -3,7 +3,9 @@
 //! thread per available core.
 
 use super::args::EvalArgs;
-use super::report::{mean_rows, plot_pair, sequence_rows, sequence_table, MeanRow, SequenceRow};
+use super::report::{
+    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, MeanRow, SequenceRow,
+};
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
     config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
@@ -211,6 +213,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         if starts.len() > 1 {
             emit(out, &per_start_means(&means))?;
         }
+        emit(out, &loss_table(&rows, &means))?;
     }
     if !args.json || args.plots || args.out.is_some() {
         let dir = args.out.clone().unwrap_or_else(|| PathBuf::from(PLOTS));

@@ -4,6 +4,7 @@
 use super::runs::{status_name, RunResult, SequenceResult, Start};
 use super::{fail, Failure, TrackerKind};
 use crate::draw::{self, Series};
+use crate::loss::{LossReport, FLAG_WITHIN, GOOD_IOU, LOST_IOU};
 use crate::sequence::GtOrigin;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -121,6 +122,8 @@ pub struct SequenceRow {
     /// Scores over the seeds.
     #[serde(flatten)]
     pub scores: OverSeeds,
+    /// Loss detection and failures, the runs pooled.
+    pub loss: LossReport,
 }
 
 /// One tracker over the sequences: per seed, the mean over sequences; then over seeds.
@@ -138,6 +141,8 @@ pub struct MeanRow {
     /// The set's mean per start over the seeds (with several starts).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub per_start: Vec<StartScores>,
+    /// Loss detection and failures, every run of every sequence pooled.
+    pub loss: LossReport,
 }
 
 /// One row per sequence and tracker (in `trackers` order), over each tracker's seeds.
@@ -156,11 +161,13 @@ pub fn sequence_rows(results: &[SequenceResult], trackers: &[TrackerKind]) -> Ve
                 })
                 .collect();
             if !per_seed.is_empty() {
+                let runs = s.runs.iter().filter(|r| r.tracker() == tracker);
                 rows.push(SequenceRow {
                     sequence: s.name.clone(),
                     tracker,
                     frames: s.frames,
                     scores: OverSeeds::new(per_seed),
+                    loss: LossReport::of(runs.map(|r| &r.checks[..])),
                 });
             }
         }
@@ -218,12 +225,17 @@ pub fn mean_rows(
                     })
                     .collect(),
             };
+            let runs = scored
+                .iter()
+                .flat_map(|s| &s.runs)
+                .filter(|r| r.tracker() == tracker);
             Some(MeanRow {
                 tracker,
                 sequences: scored.len(),
                 frames: scored.iter().map(|s| s.frames).sum(),
                 scores: OverSeeds::new(per_seed),
                 per_start,
+                loss: LossReport::of(runs.map(|r| &r.checks[..])),
             })
         })
         .collect()
@@ -365,6 +377,49 @@ pub fn plot_pair(
     )
     .map_err(fail)?;
     Ok(vec![sp, pp])
+}
+
+/// The loss-detection table: per sequence and tracker, then per tracker over the set,
+/// the share of lost frames, the confidence's ROC AUC as a loss detector, the losses, the
+/// share flagged in time, the good frames flagged `Lost`, failures per run and frames to
+/// recover ([`crate::loss`]).
+pub fn loss_table(rows: &[SequenceRow], means: &[MeanRow]) -> String {
+    let header = [
+        "sequence",
+        "tracker",
+        "lost",
+        "ROC AUC",
+        "losses",
+        "flagged",
+        "good as Lost",
+        "failures/run",
+        "recover",
+    ];
+    let cells = |name: &str, tracker: TrackerKind, l: &LossReport| {
+        let share = |v: Option<f64>| v.map_or("-".into(), |v| format!("{:.1} %", 100.0 * v));
+        vec![
+            name.to_string(),
+            tracker.to_string(),
+            share(Some(l.lost_share)),
+            score(l.roc_auc),
+            l.losses.to_string(),
+            share(l.flagged_share),
+            share(l.good_flagged_share),
+            format!("{:.2}", l.failures_per_run),
+            l.recover_frames.map_or("-".into(), |v| format!("{v:.1}")),
+        ]
+    };
+    let mut table: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| cells(&r.sequence, r.tracker, &r.loss))
+        .collect();
+    table.extend(means.iter().map(|m| cells("all", m.tracker, &m.loss)));
+    format!(
+        "\nloss detection (a frame is lost at IoU < {LOST_IOU}, good at IoU >= {GOOD_IOU}; a loss \
+         is {FLAG_WITHIN}+ lost frames, flagged if `Lost` within its first {FLAG_WITHIN}; a \
+         failure is IoU 0 until above 0 again, recover in frames; runs pooled):\n{}",
+        render_table(&header, &table, 2)
+    )
 }
 
 /// Header of [`per_frame_csv`].

@@ -3,6 +3,7 @@
 
 use super::{create_dir, fail, Failure, TrackerKind};
 use crate::draw::{self, GREEN};
+use crate::loss::{frame_checks, FrameCheck};
 use crate::metrics::{BBox, Evaluation};
 use crate::pixels::Frame;
 use crate::run::{self, Options, RunError, Shape};
@@ -85,6 +86,8 @@ pub struct RunResult {
     pub estimates: Vec<Estimate>,
     /// Scores against the ground truth, if there is any.
     pub evaluation: Option<Evaluation>,
+    /// Per frame, the loss detection's check against the ground truth (none without it).
+    pub checks: Vec<Option<FrameCheck>>,
     /// Total time inside the tracker's `step`.
     pub tracking: Duration,
 }
@@ -111,9 +114,11 @@ impl RunResult {
         (steps > 0).then(|| self.tracking.as_secs_f64() * 1e3 / steps as f64)
     }
 
-    /// Scores the boxes against `truth` (0-based); none when `truth` is empty.
+    /// Scores the boxes, status and confidence against `truth` (0-based); none when
+    /// `truth` is empty.
     pub fn score(&mut self, truth: &[BBox]) {
         self.evaluation = (!truth.is_empty()).then(|| Evaluation::new(truth, &self.boxes));
+        self.checks = frame_checks(truth, &self.boxes, &self.estimates);
     }
 }
 
@@ -214,6 +219,7 @@ where
             boxes: Vec::new(),
             estimates: Vec::new(),
             evaluation: None,
+            checks: Vec::new(),
             tracking: Duration::ZERO,
         })
         .collect();

@@ -11,6 +11,7 @@ use super::{
     overrides, progress_bar, wrote, Failure, TrackerKind,
 };
 use crate::config_fields::ConfigJson;
+use crate::loss::LossReport;
 use crate::run::Bins;
 use crate::sequence::{self, read_groundtruth, GtOrigin};
 use serde::Serialize;
@@ -162,6 +163,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
                 start: None,
                 scores,
             }]),
+            loss: LossReport::of([&run.checks[..]]),
         }];
         emit(out, &report::sequence_table(&rows, &[], false))?;
         emit(
