@@ -1,8 +1,12 @@
 //! Instructions per frame against configuration, in QEMU (`thumbv7em-none-eabihf`,
 //! Cortex-M4F, the example firmware's scene and counter): the cost half of the
-//! accuracy-against-cost table in the README. For each particle count, pixel cap and
-//! number of gradient points it runs both trackers over the scene's 60 frames and prints
-//! the mean and largest instructions per frame.
+//! accuracy-against-cost table in the README, and how the cost grows. It runs both
+//! trackers over the scene's 60 frames and prints, as means and largest instructions per
+//! frame:
+//! - per configuration: particle count, pixel cap and gradient points;
+//! - per particle count, 25 to 400, at the defaults, stage by stage;
+//! - per target size, the scene's target scaled from 20 px to 120 px tall on average (at
+//!   120 px it reaches 180 px, three quarters of the frame's height), N = 100, defaults.
 //!
 //! ```sh
 //! cargo run --release --example budget --target thumbv7em-none-eabihf
@@ -18,11 +22,13 @@ fn main() {
 mod budget {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
+    use rbtrack::fixed::Q16;
     use rbtrack::image::Rgb8x8x8;
-    use rbtrack::tracker::{Tracker, Variant};
+    use rbtrack::profile::StageCycles;
+    use rbtrack::tracker::{Config, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
-    use rbtrack_firmware::run::{self, BINS};
-    use rbtrack_firmware::scene::FRAMES;
+    use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
+    use rbtrack_firmware::scene::{self, FRAMES};
     use static_cell::ConstStaticCell;
 
     /// Configurations: particles, pixels per window, gradient points.
@@ -38,35 +44,113 @@ mod budget {
         (25, 100, 12),
     ];
 
-    // The frame buffer and the tracker of N = 100 are the board's; these the smaller ones.
-    static T50: ConstStaticCell<Tracker<Rgb8x8x8, 50, BINS>> =
-        ConstStaticCell::new(Tracker::unstarted());
-    static T25: ConstStaticCell<Tracker<Rgb8x8x8, 25, BINS>> =
-        ConstStaticCell::new(Tracker::unstarted());
+    /// Particle counts of the sweep.
+    const COUNTS: [usize; 5] = [25, 50, 100, 200, 400];
 
-    /// Mean and largest instructions per frame of `variant` with `cap` and `points` in
-    /// `tracker`.
+    /// Target scales of the size sweep, in 1/8: the scene's target (54 px tall on average)
+    /// times 3/8, 6/8, 12/8 and 18/8.
+    const SCALES_EIGHTHS: [i32; 4] = [3, 6, 12, 18];
+
+    /// The trackers other than the board's N = 100, one at a time in one static the size
+    /// of the largest: all of them side by side would not fit the board's 320 KiB.
+    #[allow(clippy::large_enum_variant)] // one static, never moved: its size is the point
+    enum Other {
+        Idle,
+        N25(Tracker<Rgb8x8x8, 25, BINS>),
+        N50(Tracker<Rgb8x8x8, 50, BINS>),
+        N200(Tracker<Rgb8x8x8, 200, BINS>),
+        N400(Tracker<Rgb8x8x8, 400, BINS>),
+    }
+
+    static OTHER: ConstStaticCell<Other> = ConstStaticCell::new(Other::Idle);
+
+    /// Means and largest of one run, per frame.
+    struct Cost {
+        /// Mean instructions per stage: propagate, weigh, update, estimate, resample.
+        stages: [u64; 5],
+        /// Mean and largest instructions of a step.
+        total: (u64, u32),
+        /// Mean pixels read into histograms.
+        pixels: u64,
+        /// Mean target height, px.
+        height: u64,
+    }
+
+    /// The cost of `config` in `tracker` over the scene with its target times `scale`.
     fn measure<const N: usize>(
         tracker: &mut Tracker<Rgb8x8x8, N, BINS>,
         frame: &mut [u8],
         counter: &mut SysTick,
-        variant: Variant,
-        cap: u32,
-        points: u8,
-    ) -> (u64, u32) {
-        let mut config = run::config(variant);
-        config.pixels_per_window = cap;
-        config.gradient_points = points;
-        let (mut total, mut most) = (0u64, 0u32);
-        let result = run::run_config(config, tracker, FRAMES, frame, counter, |r| {
-            let units = r.cycles.total();
-            total += units as u64;
-            most = most.max(units);
+        config: Config,
+        scale: Q16,
+    ) -> Cost {
+        let mut sums = [0u64; 8];
+        let mut most = 0u32;
+        let result = run::run_config(config, tracker, FRAMES, scale, frame, counter, |r| {
+            let StageCycles {
+                propagate,
+                weigh,
+                update,
+                estimate,
+                resample,
+            } = r.cycles;
+            let height = (2 * r.truth.hy.to_bits() as u32) >> 16;
+            let row = [
+                propagate, weigh, update, estimate, resample, r.pixels, height,
+            ];
+            for (sum, v) in sums.iter_mut().zip(row) {
+                *sum += v as u64;
+            }
+            most = most.max(r.cycles.total());
         });
         if let Err(e) = result {
             panic!("configuration: {e}");
         }
-        (total / FRAMES as u64, most)
+        let mean = sums.map(|s| s / FRAMES as u64);
+        Cost {
+            stages: [mean[0], mean[1], mean[2], mean[3], mean[4]],
+            total: (mean[..5].iter().sum(), most),
+            pixels: mean[5],
+            height: mean[6],
+        }
+    }
+
+    /// [`measure`] with `n` particles: the board's tracker for 100, else [`OTHER`] made
+    /// a tracker of `n` in place.
+    fn measure_n(
+        n: usize,
+        t100: &mut FirmwareTracker,
+        other: &mut Other,
+        frame: &mut [u8],
+        counter: &mut SysTick,
+        config: Config,
+        scale: Q16,
+    ) -> Cost {
+        // A constant, so that it is copied into the static without a stack temporary.
+        macro_rules! in_other {
+            ($variant:ident) => {{
+                *other = const { Other::$variant(Tracker::unstarted()) };
+                let Other::$variant(t) = other else {
+                    unreachable!()
+                };
+                measure(t, frame, counter, config, scale)
+            }};
+        }
+        match n {
+            25 => in_other!(N25),
+            50 => in_other!(N50),
+            200 => in_other!(N200),
+            400 => in_other!(N400),
+            _ => measure(t100, frame, counter, config, scale),
+        }
+    }
+
+    /// The defaults of `variant` with the target times `scale` (the RBPF's ground-plane
+    /// slope scaled with it).
+    fn scaled_config(variant: Variant, scale: Q16) -> Config {
+        let mut config = run::config(variant);
+        config.scale_per_row = config.scale_per_row * scale;
+        config
     }
 
     #[entry]
@@ -74,25 +158,23 @@ mod budget {
         let Some(mut cp) = cortex_m::Peripherals::take() else {
             panic!("peripherals taken twice");
         };
-        let (Some((frame, t100)), Some(t50), Some(t25)) =
-            (board::statics(), T50.try_take(), T25.try_take())
-        else {
+        let (Some((frame, t100)), Some(other)) = (board::statics(), OTHER.try_take()) else {
             panic!("statics taken twice");
         };
         SysTick::start(&mut cp.SYST);
         let (instructions, ticks) = board::calibrate(1_000_000);
         let mut counter = SysTick::counter((instructions + ticks / 2) / ticks.max(1));
+        let variants = [Variant::Rbpf, Variant::ColourPf];
+
         hprintln!("N    cap  points   rbpf mean    rbpf max     pf mean      pf max  (instructions per frame)");
         for (n, cap, points) in CONFIGS {
-            let mut row = [(0u64, 0u32); 2];
-            for (slot, variant) in row.iter_mut().zip([Variant::Rbpf, Variant::ColourPf]) {
+            let row = variants.map(|variant| {
+                let mut config = run::config(variant);
+                config.pixels_per_window = cap;
+                config.gradient_points = points;
                 let f = &mut frame[..];
-                *slot = match n {
-                    100 => measure(t100, f, &mut counter, variant, cap, points),
-                    50 => measure(t50, f, &mut counter, variant, cap, points),
-                    _ => measure(t25, f, &mut counter, variant, cap, points),
-                };
-            }
+                measure_n(n, t100, other, f, &mut counter, config, Q16::ONE).total
+            });
             hprintln!(
                 "{:<4} {:>3} {:>7} {:>11} {:>11} {:>11} {:>11}",
                 n,
@@ -103,6 +185,82 @@ mod budget {
                 row[1].0,
                 row[1].1
             );
+        }
+
+        for variant in variants {
+            hprintln!("");
+            hprintln!(
+                "{:?} at the defaults, mean instructions per frame by stage:",
+                variant
+            );
+            hprintln!(
+                "N    propagate      weigh     update   estimate   resample      total        max"
+            );
+            for n in COUNTS {
+                let f = &mut frame[..];
+                let c = measure_n(
+                    n,
+                    t100,
+                    other,
+                    f,
+                    &mut counter,
+                    run::config(variant),
+                    Q16::ONE,
+                );
+                let [p, w, u, e, r] = c.stages;
+                hprintln!(
+                    "{:<4} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+                    n,
+                    p,
+                    w,
+                    u,
+                    e,
+                    r,
+                    c.total.0,
+                    c.total.1
+                );
+            }
+        }
+
+        hprintln!("");
+        hprintln!("target size, N = 100, defaults (mean target height, px):");
+        hprintln!(
+            "height   rbpf mean    rbpf max  rbpf pixels     pf mean      pf max    pf pixels"
+        );
+        for eighths in SCALES_EIGHTHS {
+            let scale = Q16::from_int(eighths) / Q16::from_int(8);
+            let [rbpf, pf] = variants.map(|variant| {
+                let f = &mut frame[..];
+                let config = scaled_config(variant, scale);
+                measure_n(100, t100, other, f, &mut counter, config, scale)
+            });
+            hprintln!(
+                "{:>6} {:>11} {:>11} {:>12} {:>11} {:>11} {:>12}",
+                rbpf.height,
+                rbpf.total.0,
+                rbpf.total.1,
+                rbpf.pixels,
+                pf.total.0,
+                pf.total.1,
+                pf.pixels
+            );
+        }
+        let full = scene::truth(FRAMES);
+        hprintln!(
+            "(the scene's own target, scale 1, grows to {} px tall)",
+            (2 * full.hy.to_bits()) >> 16
+        );
+
+        // A tracker made in place must not have passed through the stack.
+        let stack = board::stack_use();
+        hprintln!(
+            "stack high-water mark: {} of {} bytes (budget {})",
+            stack.used,
+            stack.size,
+            STACK_BUDGET_BYTES
+        );
+        if stack.used > STACK_BUDGET_BYTES {
+            panic!("stack over budget");
         }
         board::exit(debug::EXIT_SUCCESS)
     }

@@ -20,6 +20,7 @@ fn main() {
 mod cycles {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
+    use rbtrack::fixed::Q16;
     use rbtrack::image::Rgb8x8x8;
     use rbtrack::profile::NoCounter;
     use rbtrack::tracker::{Config, Tracker, Variant};
@@ -42,7 +43,7 @@ mod cycles {
         frame: &mut [u8],
     ) {
         let mut stepped = 0;
-        let result = run::run_config(config, tracker, FRAMES, frame, NoCounter, |r| {
+        let result = run::run_config(config, tracker, FRAMES, Q16::ONE, frame, NoCounter, |r| {
             stepped = r.frame;
             if r.frame == FRAMES {
                 hprintln!("{}: {} steps", label, stepped);

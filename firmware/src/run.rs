@@ -5,6 +5,7 @@
 //! runs it on x86; both print [`Checksum::value`], and CI checks that they agree.
 
 use crate::scene::{self, FRAMES, HEIGHT, WIDTH};
+use rbtrack::fixed::Q16;
 use rbtrack::image::{Binning, ImageView, Rgb565Le, Rgb8x8x8};
 use rbtrack::profile::{CycleCounter, StageCycles};
 use rbtrack::tracker::{
@@ -130,12 +131,21 @@ pub fn run<C: CycleCounter>(
     counter: C,
     report: impl FnMut(&FrameReport),
 ) -> Result<(), ConfigError> {
-    run_config(config(variant), tracker, FRAMES, buf, counter, report)
+    run_config(
+        config(variant),
+        tracker,
+        FRAMES,
+        Q16::ONE,
+        buf,
+        counter,
+        report,
+    )
 }
 
 /// [`run`] with any configuration and particle count `N`, over frames `1..=frames`
-/// (at most [`FRAMES`]): the scene's workload for a tracker of `config` (the budget and
-/// cycles examples' measure of a configuration's cost).
+/// (at most [`FRAMES`]) of the scene with its target's half-axes times `target_scale`
+/// ([`scene::truth_scaled`]): the scene's workload for a tracker of `config` (the budget
+/// and cycles examples' measure of a configuration's cost).
 ///
 /// # Errors
 /// The tracker's [`ConfigError`].
@@ -146,14 +156,15 @@ pub fn run_config<C: CycleCounter, const N: usize>(
     config: Config,
     tracker: &mut Tracker<Rgb8x8x8, N, BINS>,
     frames: usize,
+    target_scale: Q16,
     buf: &mut [u8],
     mut counter: C,
     mut report: impl FnMut(&FrameReport),
 ) -> Result<(), ConfigError> {
-    scene::render(scene::SEED, 0, buf);
-    tracker.start(config, &view(buf), scene::truth(0))?;
+    scene::render_scaled(scene::SEED, 0, target_scale, buf);
+    tracker.start(config, &view(buf), scene::truth_scaled(0, target_scale))?;
     for frame in 1..=frames.min(FRAMES) {
-        scene::render(scene::SEED, frame, buf);
+        scene::render_scaled(scene::SEED, frame, target_scale, buf);
         step_begins();
         let (estimate, cycles) = tracker.step_profiled(&view(buf), &mut counter);
         step_ends();
@@ -162,7 +173,7 @@ pub fn run_config<C: CycleCounter, const N: usize>(
             estimate,
             cycles,
             pixels: tracker.pixels_visited(),
-            truth: scene::truth(frame),
+            truth: scene::truth_scaled(frame, target_scale),
         });
     }
     Ok(())

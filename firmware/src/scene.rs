@@ -86,6 +86,12 @@ fn node_colour(gx: u32, gy: u32, seed: u32) -> [i32; 3] {
 /// The target's ellipse at `frame` (`0..=FRAMES`; later frames continue the line), px,
 /// Q16.16.
 pub fn truth(frame: usize) -> Ellipse {
+    truth_scaled(frame, Q16::ONE)
+}
+
+/// [`truth`] with both half-axes times `scale` (Q16.16), the centre unchanged: the
+/// scene's target made smaller or larger, for measuring cost against target size.
+pub fn truth_scaled(frame: usize, scale: Q16) -> Ellipse {
     let t = frame as i64;
     let n = FRAMES as i64;
     let lerp = |a: i32, b: i32| {
@@ -93,7 +99,7 @@ pub fn truth(frame: usize) -> Ellipse {
     };
     let cx = lerp(START.0, END.0);
     let cy = lerp(START.1, END.1);
-    let hy = (cy - Q16::from_int(HORIZON_Y)) * SCALE_PER_ROW;
+    let hy = (cy - Q16::from_int(HORIZON_Y)) * SCALE_PER_ROW * scale;
     let hx = Q16::from_bits(((hy.to_bits() as i64 * 7) >> 4) as i32);
     Ellipse { cx, cy, hx, hy }
 }
@@ -104,7 +110,15 @@ pub fn truth(frame: usize) -> Ellipse {
 /// # Panics
 /// If `buf` is shorter than [`FRAME_BYTES`].
 pub fn render(seed: u32, frame: usize, buf: &mut [u8]) {
-    let e = truth(frame);
+    render_scaled(seed, frame, Q16::ONE, buf);
+}
+
+/// [`render`] with the target of [`truth_scaled`]`(frame, scale)`.
+///
+/// # Panics
+/// If `buf` is shorter than [`FRAME_BYTES`].
+pub fn render_scaled(seed: u32, frame: usize, scale: Q16, buf: &mut [u8]) {
+    let e = truth_scaled(frame, scale);
     let (cx, cy) = (e.cx.to_bits() as i64, e.cy.to_bits() as i64);
     let (hx, hy) = (e.hx.to_bits() as i64, e.hy.to_bits() as i64);
     // Inside when (dx hy)^2 + (dy hx)^2 <= (hx hy)^2, all in Q16 px; dx, dy, hx, hy < 2^25,
