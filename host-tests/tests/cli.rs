@@ -49,20 +49,19 @@ fn write_sequence(dir: &Path, seed: u64) -> Vec<String> {
     lines
 }
 
-/// Rewrites the ground truth of the sequence in `dir`, `truth`, each box grown by 2 px on
-/// every side. Returns the new lines.
-fn grown(dir: &Path, truth: &[String]) -> Vec<String> {
+/// Rewrites the ground truth of the sequence in `dir` from `truth`, the lines
+/// [`write_sequence`] wrote, each box's `x, y, w, h` plus `change`. Returns the new lines.
+fn rewrite_groundtruth(dir: &Path, truth: &[String], change: [f64; 4]) -> Vec<String> {
     let lines: Vec<String> = truth
         .iter()
         .map(|l| {
             let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            format!(
-                "{:.2},{:.2},{:.2},{:.2}",
-                v[0] - 2.0,
-                v[1] - 2.0,
-                v[2] + 4.0,
-                v[3] + 4.0
-            )
+            let b: Vec<String> = v
+                .iter()
+                .zip(change)
+                .map(|(v, d)| format!("{:.2}", v + d))
+                .collect();
+            b.join(",")
         })
         .collect();
     std::fs::write(dir.join(GROUNDTRUTH_FILE), lines.join("\n")).unwrap();
@@ -73,21 +72,13 @@ fn grown(dir: &Path, truth: &[String]) -> Vec<String> {
 /// 1-based lines [`write_sequence`] wrote, each corner moved up and left by 1 px. Returns
 /// the new lines.
 fn rewrite_zero_based(dir: &Path, truth: &[String]) -> Vec<String> {
-    let lines: Vec<String> = truth
-        .iter()
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            format!(
-                "{:.2},{:.2},{:.2},{:.2}",
-                v[0] - 1.0,
-                v[1] - 1.0,
-                v[2],
-                v[3]
-            )
-        })
-        .collect();
-    std::fs::write(dir.join(GROUNDTRUTH_FILE), lines.join("\n")).unwrap();
-    lines
+    rewrite_groundtruth(dir, truth, [-1.0, -1.0, 0.0, 0.0])
+}
+
+/// Rewrites the ground truth of the sequence in `dir`, `truth`, each box grown by 2 px on
+/// every side. Returns the new lines.
+fn grown(dir: &Path, truth: &[String]) -> Vec<String> {
+    rewrite_groundtruth(dir, truth, [-2.0, -2.0, 4.0, 4.0])
 }
 
 fn rbtrack(args: &[&str]) -> Output {
