@@ -6,7 +6,8 @@
 //! - per configuration: particle count, pixel cap and gradient points;
 //! - per particle count, 25 to 400, at the defaults, stage by stage;
 //! - per target size, the scene's target scaled from 20 px to 120 px tall on average (at
-//!   120 px it reaches 180 px, three quarters of the frame's height), N = 100, defaults.
+//!   120 px it reaches 180 px, three quarters of the frame's height), N = 100, defaults;
+//! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps.
 //!
 //! ```sh
 //! cargo run --release --example budget --target thumbv7em-none-eabihf
@@ -24,7 +25,8 @@ mod budget {
     use cortex_m_semihosting::{debug, hprintln};
     use rbtrack::fixed::Q16;
     use rbtrack::image::Rgb8x8x8;
-    use rbtrack::profile::StageCycles;
+    use rbtrack::pantilt::{PanTilt, PanTiltConfig};
+    use rbtrack::profile::{CycleCounter, StageCycles};
     use rbtrack::tracker::{Config, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
     use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
@@ -249,6 +251,26 @@ mod budget {
         hprintln!(
             "(the scene's own target, scale 1, grows to {} px tall)",
             (2 * full.hy.to_bits()) >> 16
+        );
+
+        // The controller, on the last estimate moved a little every step.
+        let fov = (Q16::from_int(60), Q16::from_int(45));
+        let Ok(mut head) = PanTilt::new(PanTiltConfig::new(320, 240, fov.0, fov.1)) else {
+            panic!("pan/tilt configuration");
+        };
+        let mut estimate = t100.estimate();
+        const STEPS: u32 = 1000;
+        let start = counter.now();
+        for k in 0..STEPS {
+            estimate.ellipse.cx = Q16::from_int(100 + (k % 120) as i32);
+            core::hint::black_box(head.step(core::hint::black_box(&estimate)));
+        }
+        let spent = counter.now().wrapping_sub(start);
+        hprintln!("");
+        hprintln!(
+            "pan/tilt step: {} instructions (mean of {})",
+            spent / STEPS,
+            STEPS
         );
 
         // A tracker made in place must not have passed through the stack.

@@ -29,7 +29,8 @@
 //! `step`, `step_profiled` (with a counter that may read anything) and the getters
 //! `estimate` (and its box), `model`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
-//! `size_covariance` and `scale_per_row`.
+//! `size_covariance` and `scale_per_row`; and the pan/tilt controller's `PanTilt::new`
+//! (with settings it cannot see), `step` on those estimates and `command`.
 //!
 //! The proof is the link; the program is not meant to be run. On a hosted target it is an
 //! empty program.
@@ -49,6 +50,7 @@ mod proof {
         Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4,
         Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
     };
+    use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::CycleCounter;
     use rbtrack::rect::Rect;
     use rbtrack::tracker::{Config, Tracker, Variant};
@@ -127,6 +129,11 @@ mod proof {
         black_box(tracker.step(&frame));
         black_box(tracker.relocate(&frame, Rect::from(any_ellipse())).is_ok());
         black_box(tracker.estimate().rect());
+        let head = PanTiltConfig::new(32, 24, Q16::from_int(60), Q16::from_int(45));
+        if let Ok(mut head) = PanTilt::new(black_box(head)) {
+            black_box(head.step(&tracker.step(&frame)));
+            black_box(head.command());
+        }
         if let Ok(mut built) = Tracker::<Bn, N, B>::new(any_config(), &frame, any_ellipse()) {
             black_box(built.step(&frame));
             read(&built);

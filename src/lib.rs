@@ -72,6 +72,9 @@
 //! - [`tracker`]: the colour particle filter and the Rao-Blackwellised particle filter,
 //!   configured once and stepped one frame at a time.
 //! - [`Error`]: a frame's or a tracker's refusal, for `?` in code that does both.
+//!
+//! Output:
+//! - [`pantilt`]: pan and tilt commands that keep the target in the middle of the picture.
 #![no_std]
 #![forbid(unsafe_code)]
 
@@ -112,6 +115,9 @@ pub mod resample;
 
 // The trackers.
 pub mod tracker;
+
+// Output.
+pub mod pantilt;
 
 mod error;
 
