@@ -17,7 +17,12 @@
 //!   (no copy), initialised on a fixed 48 x 64 px box in the centre of the first frame. A
 //!   product would take the box from a detector or a host command.
 //! - **Output**: per frame, the estimate (centre, half-axes, velocity, confidence, status)
-//!   and the DWT cycle counts of propagate, weigh, update, estimate and resample.
+//!   and the DWT cycle counts of propagate, weigh, update, estimate and resample; and the
+//!   pan/tilt head's commands ([`rbtrack::pantilt`]) as servo pulses on P7 (pan, PD12,
+//!   TIM4 channel 1) and P8 (tilt, PD13, TIM4 channel 2), 50 Hz, 1,500 us at 0 degrees and
+//!   100/9 us per degree (a hobby servo's 500-2,500 us for 180 degrees); the head holds
+//!   still while the status is not `Tracking`. [`FOV_X`] and [`FOV_Y`] must be the lens's
+//!   field of view: the values here are placeholders to measure.
 
 #![no_std]
 #![no_main]
@@ -31,14 +36,18 @@ use defmt_rtt as _;
 use embassy_executor::Spawner;
 use embassy_futures::join::join;
 use embassy_stm32::dcmi::{self, Dcmi};
-use embassy_stm32::gpio::{Level, Output, Speed};
+use embassy_stm32::gpio::{Level, Output, OutputType, Speed};
 use embassy_stm32::i2c::{self, I2c};
 use embassy_stm32::peripherals::DCMI;
 use embassy_stm32::rcc::{Mco, Mco1Source, McoConfig, McoPrescaler};
+use embassy_stm32::time::Hertz;
+use embassy_stm32::timer::low_level::CountingMode;
+use embassy_stm32::timer::simple_pwm::{PwmPin, SimplePwm, SimplePwmChannel};
 use embassy_stm32::{bind_interrupts, dma, peripherals};
 use panic_probe as _;
 use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageError, ImageView, Rgb565Be, Rgb8x8x8};
+use rbtrack::pantilt::{PanTilt, PanTiltConfig};
 use rbtrack::profile::{CycleCounter, StageCycles};
 use rbtrack::tracker::{Config, ConfigError, Estimate, Variant};
 use rbtrack::window::Ellipse;
@@ -49,6 +58,12 @@ const WIDTH: usize = 320;
 const HEIGHT: usize = 240;
 /// 32-bit words of one RGB565 frame: two pixels per word.
 const FRAME_WORDS: usize = WIDTH * HEIGHT / 2;
+/// The lens's field of view, degrees: placeholders, to be measured for the lens fitted.
+const FOV_X: Q16 = Q16::from_int(70);
+const FOV_Y: Q16 = Q16::from_int(53);
+/// Servo pulse period (50 Hz) and the pulse at 0 degrees, us.
+const SERVO_PERIOD_US: u32 = 20_000;
+const SERVO_CENTRE_US: i32 = 1_500;
 /// Particles and colour bins of the tracker.
 const PARTICLES: usize = 100;
 const BINS: usize = 512;
@@ -186,6 +201,13 @@ fn report(frame: u32, e: &Estimate, c: &StageCycles) {
     );
 }
 
+/// Sets `servo` to the pulse of `degrees` (Q16.16): 1,500 us at 0, 100/9 us per degree.
+fn set_angle(servo: &mut SimplePwmChannel<'_, peripherals::TIM4>, degrees: Q16) {
+    let offset_us = (degrees.to_bits() as i64 * 100 / 9) >> Q16::FRAC_BITS;
+    let pulse_us = (SERVO_CENTRE_US as i64 + offset_us).clamp(500, 2_500) as u32;
+    servo.set_duty_cycle_fraction(pulse_us, SERVO_PERIOD_US);
+}
+
 /// Stops the core after an error was logged (the probe keeps the log).
 fn halt() -> ! {
     loop {
@@ -275,6 +297,26 @@ async fn main(_spawner: Spawner) {
         }
     }
 
+    let head = PanTiltConfig::new(WIDTH as u32, HEIGHT as u32, FOV_X, FOV_Y);
+    let Ok(mut head) = PanTilt::new(head) else {
+        error!("pan/tilt settings refused");
+        halt()
+    };
+    let servos = SimplePwm::new(
+        p.TIM4,
+        Some(PwmPin::new(p.PD12, OutputType::PushPull)),
+        Some(PwmPin::new(p.PD13, OutputType::PushPull)),
+        None,
+        None,
+        Hertz(1_000_000 / SERVO_PERIOD_US),
+        CountingMode::EdgeAlignedUp,
+    );
+    let mut servos = servos.split();
+    for servo in [&mut servos.ch1, &mut servos.ch2] {
+        set_angle(servo, Q16::ZERO);
+        servo.enable();
+    }
+
     let mut frame = 0u32;
     loop {
         frame = frame.wrapping_add(1);
@@ -285,7 +327,12 @@ async fn main(_spawner: Spawner) {
         })
         .await;
         match stepped {
-            Ok((estimate, stages)) => report(frame, &estimate, &stages),
+            Ok((estimate, stages)) => {
+                report(frame, &estimate, &stages);
+                let command = head.step(&estimate);
+                set_angle(&mut servos.ch1, command.pan);
+                set_angle(&mut servos.ch2, command.tilt);
+            }
             Err(e) => warn!("frame {=u32}: {}", frame, e),
         }
         finish_capture(&mut dcmi, &mut cp.SCB, next, captured).await;
