@@ -336,6 +336,7 @@ def main():
     by_start = {n: {s[0]: [] for s in starts} for n in names}  # per start: AUC per sequence
     for seq in sequences(data):
         zero_based = args.zero_based or seq.name in zero_named
+        first = read_boxes(seq / "groundtruth_rect.txt")[0]  # in the file's convention
         truth = [to_zero_based(b, zero_based) for b in read_boxes(seq / "groundtruth_rect.txt")]
         with tempfile.TemporaryDirectory() as tmp:
             dump = Path(tmp) / f"{seq.name}.rgb"
@@ -368,9 +369,7 @@ def main():
         for name, make in peers.items():
             runs = []
             for start in starts:
-                init = to_zero_based(
-                    start_box(read_boxes(seq / "groundtruth_rect.txt")[0], start), zero_based
-                )
+                init = to_zero_based(start_box(first, start), zero_based)
                 boxes, ms = run_peer(make, frames, init)
                 auc, prec = scores(truth, boxes)
                 by_start[name][start[0]].append(auc)

@@ -376,12 +376,11 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         let bounds = bounds(&config, frame);
         let init = RefEllipse::from_q16(init);
         let inside = |v: f64, max: f64| (0.0..=max).contains(&v);
-        if init.hx < bounds.min_half
-            || init.hy < bounds.min_half
-            || !inside(init.cx, bounds.max_x)
-            || !inside(init.cy, bounds.max_y)
-        {
-            return Err(ConfigError::InitialEllipse);
+        if init.hx < bounds.min_half || init.hy < bounds.min_half {
+            return Err(ConfigError::InitialTooSmall);
+        }
+        if !inside(init.cx, bounds.max_x) || !inside(init.cy, bounds.max_y) {
+            return Err(ConfigError::InitialOutside);
         }
         let (r, q) = (config.kalman_r.to_f64(), config.kalman_q.to_f64());
         let block = Block {

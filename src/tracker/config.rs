@@ -180,9 +180,10 @@ pub enum ConfigError {
     Kalman(KalmanError),
     /// The particle count `N` is 0 or above 65535.
     ParticleCount,
-    /// The initial ellipse has a half-axis below `min_half_axis` or its centre outside
-    /// the frame.
-    InitialEllipse,
+    /// The initial ellipse has a half-axis below `min_half_axis`.
+    InitialTooSmall,
+    /// The initial ellipse's centre lies outside the frame.
+    InitialOutside,
     /// A target model learnt under other colour settings, or given to an unstarted
     /// tracker ([`super::Tracker::set_model`]).
     ModelSettings,
@@ -195,9 +196,8 @@ impl core::fmt::Display for ConfigError {
             Self::Gradient(e) => write!(f, "{e}"),
             Self::Kalman(e) => write!(f, "Kalman filter: {e}"),
             Self::ParticleCount => write!(f, "particle count must be in 1..=65535"),
-            Self::InitialEllipse => {
-                write!(f, "initial ellipse too small or centred outside the frame")
-            }
+            Self::InitialTooSmall => write!(f, "initial ellipse below the smallest half-axis"),
+            Self::InitialOutside => write!(f, "initial ellipse centred outside the frame"),
             Self::ModelSettings => write!(f, "target model learnt under other colour settings"),
         }
     }

@@ -126,11 +126,11 @@ fn check_init<P: PixelFormat>(
 ) -> Result<(), ConfigError> {
     let bounds = Bounds::for_frame(frame.width(), frame.height(), config.min_half_axis);
     let inside = |v: Q16, max: Q16| v >= Q16::ZERO && v <= max;
-    let usable = init.hx >= config.min_half_axis
-        && init.hy >= config.min_half_axis
-        && inside(init.cx, bounds.max_x)
-        && inside(init.cy, bounds.max_y);
-    usable.then_some(()).ok_or(ConfigError::InitialEllipse)
+    if init.hx < config.min_half_axis || init.hy < config.min_half_axis {
+        return Err(ConfigError::InitialTooSmall);
+    }
+    let centred = inside(init.cx, bounds.max_x) && inside(init.cy, bounds.max_y);
+    centred.then_some(()).ok_or(ConfigError::InitialOutside)
 }
 
 /// A tracker of `N` particles on 8x8x8 RGB histograms (512 bins), the default.
@@ -278,8 +278,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// # Errors
     /// As [`Config::validate`] (the first bad field, or the gradient cue's or Kalman
     /// filter's refusal), [`ConfigError::ParticleCount`] for `N` outside `1..=65535`,
-    /// [`ConfigError::InitialEllipse`] for an ellipse with a half-axis below
-    /// `min_half_axis` or a centre outside the frame; the tracker is then unchanged.
+    /// [`ConfigError::InitialTooSmall`] for an ellipse with a half-axis below
+    /// `min_half_axis`, [`ConfigError::InitialOutside`] for one centred outside the frame;
+    /// the tracker is then unchanged.
     pub fn start<P: PixelFormat>(
         &mut self,
         config: Config,
@@ -324,7 +325,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// ([`Tracker::start`]).
     ///
     /// # Errors
-    /// [`ConfigError::InitialEllipse`] as for [`Tracker::start`]; the tracker is unchanged.
+    /// [`ConfigError::InitialTooSmall`] or [`ConfigError::InitialOutside`] as for
+    /// [`Tracker::start`]; the tracker is unchanged.
     pub fn reset<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
@@ -512,7 +514,7 @@ mod tests {
         };
         assert_eq!(
             in_place.start(config, &frame, bad),
-            Err(ConfigError::InitialEllipse)
+            Err(ConfigError::InitialTooSmall)
         );
         assert_eq!(
             in_place.step(&frame),

@@ -36,7 +36,8 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// model instead. An unstarted tracker, having no model to keep, is reset.
     ///
     /// # Errors
-    /// [`ConfigError::InitialEllipse`] as for [`Tracker::start`]; the tracker is unchanged.
+    /// [`ConfigError::InitialTooSmall`] or [`ConfigError::InitialOutside`] as for
+    /// [`Tracker::start`]; the tracker is unchanged.
     pub fn relocate<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
@@ -122,7 +123,7 @@ mod tests {
         let before = t.clone();
         assert_eq!(
             t.relocate(&view(&moved), Rect::new(200, 14, 20, 20)),
-            Err(ConfigError::InitialEllipse)
+            Err(ConfigError::InitialOutside)
         );
         assert_eq!(t.particles(), before.particles());
         assert_eq!(t.estimate(), before.estimate());

@@ -156,23 +156,24 @@ pub fn check_init(init: &BBox, width: u32, height: u32, shown: &BBox) -> Result<
 }
 
 /// The error of a tracker that did not start from `init` (0-based) on a `width x height`
-/// frame: which of the initial box's faults it is, when it is the box.
+/// frame, the box's size or centre in it when the core refused the box.
 fn start_error(e: RunError, config: &Config, init: &BBox, width: u32, height: u32) -> Failure {
-    if !matches!(e, RunError::Config(ConfigError::InitialEllipse)) {
-        return fail(e);
-    }
-    let min = 2.0 * config.min_half_axis.to_f64();
-    if init.w < min || init.h < min {
-        return fail(format!(
+    match e {
+        RunError::Config(ConfigError::InitialTooSmall) => fail(format!(
             "initial box {:.2}x{:.2} px is too small: its width and height must be at least \
-             {min} px",
-            init.w, init.h
-        ));
+             {} px",
+            init.w,
+            init.h,
+            2.0 * config.min_half_axis.to_f64()
+        )),
+        RunError::Config(ConfigError::InitialOutside) => {
+            let (cx, cy) = init.centre();
+            fail(format!(
+                "initial box centred at ({cx:.2}, {cy:.2}) is outside the {width}x{height} frame"
+            ))
+        }
+        e => fail(e),
     }
-    let (cx, cy) = init.centre();
-    fail(format!(
-        "initial box centred at ({cx:.2}, {cy:.2}) is outside the {width}x{height} frame"
-    ))
 }
 
 /// What [`track_frames`] made: every run's results over the frames tracked, and why it
