@@ -7,7 +7,8 @@
 //! - per particle count, 25 to 400, at the defaults, stage by stage;
 //! - per target size, the scene's target scaled from 20 px to 120 px tall on average (at
 //!   120 px it reaches 180 px, three quarters of the frame's height), N = 100, defaults;
-//! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps.
+//! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps, and a known
+//!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom).
 //!
 //! ```sh
 //! cargo run --release --example budget --target thumbv7em-none-eabihf
@@ -27,7 +28,7 @@ mod budget {
     use rbtrack::image::Rgb8x8x8;
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::{CycleCounter, StageCycles};
-    use rbtrack::tracker::{Config, Tracker, Variant};
+    use rbtrack::tracker::{CameraMotion, Config, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
     use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
     use rbtrack_firmware::scene::{self, FRAMES};
@@ -272,6 +273,22 @@ mod budget {
             spent / STEPS,
             STEPS
         );
+        let shift = CameraMotion::shift(Q16::from_f64(-3.5), Q16::from_f64(1.25));
+        let zoom = CameraMotion {
+            zoom: Q16::from_f64(1.01),
+            centre_x: Q16::from_int(160),
+            centre_y: Q16::from_int(120),
+            ..shift
+        };
+        for (name, motion) in [("shift", shift), ("shift and zoom", zoom)] {
+            let start = counter.now();
+            t100.camera_moved(core::hint::black_box(&motion));
+            hprintln!(
+                "camera motion ({}), N = 100: {} instructions",
+                name,
+                counter.now().wrapping_sub(start)
+            );
+        }
 
         // A tracker made in place must not have passed through the stack.
         let stack = board::stack_use();

@@ -26,7 +26,8 @@
 //! `Tracker<Yuv8x8x4, 1, 256>`, `Tracker<Luma64, 8, 64>`), with a `Config` and initial
 //! ellipses it cannot see either (so both variants and every setting are live):
 //! `Tracker::unstarted`, `start`, `new`, `reset`, `relocate` (on a box), `set_model`,
-//! `step`, `step_profiled` (with a counter that may read anything) and the getters
+//! `camera_moved` (on a motion it cannot see), `step`, `step_profiled` (with a counter
+//! that may read anything) and the getters
 //! `estimate` (and its box), `model`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
 //! `size_covariance` and `scale_per_row`; and the pan/tilt controller's `PanTilt::new`
@@ -53,7 +54,7 @@ mod proof {
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::CycleCounter;
     use rbtrack::rect::Rect;
-    use rbtrack::tracker::{Config, Tracker, Variant};
+    use rbtrack::tracker::{CameraMotion, Config, Tracker, Variant};
     use rbtrack::window::Ellipse;
 
     /// The frames' bytes, as bytes and as the 32-bit words a DMA engine fills.
@@ -128,6 +129,8 @@ mod proof {
         black_box(tracker.reset(&frame, any_ellipse()).is_ok());
         black_box(tracker.step(&frame));
         black_box(tracker.relocate(&frame, Rect::from(any_ellipse())).is_ok());
+        tracker.camera_moved(&black_box(CameraMotion::shift(Q16::ONE, Q16::ZERO)));
+        black_box(tracker.step(&frame));
         black_box(tracker.estimate().rect());
         let head = PanTiltConfig::new(32, 24, Q16::from_int(60), Q16::from_int(45));
         if let Ok(mut head) = PanTilt::new(black_box(head)) {

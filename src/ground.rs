@@ -36,6 +36,9 @@ const FORGET_LOG2: u32 = 6;
 /// Weight of one new sample in the sums, `1 << WEIGHT_LOG2`.
 const WEIGHT_LOG2: u32 = 8;
 
+/// Extra fraction bits of the total weight.
+const WEIGHT_FRACTION_BITS: u32 = 16;
+
 /// Smallest total weight of a trusted fit: 16 samples' worth.
 const MIN_WEIGHT: i64 = 16 << WEIGHT_LOG2;
 
@@ -49,7 +52,8 @@ const MAX_SLOPE: u32 = 4;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GroundPlane {
-    /// Total weight.
+    /// Total weight, with [`WEIGHT_FRACTION_BITS`] more fraction bits than the sums'
+    /// weights, so that its forgetting rounds no coarser than theirs.
     n: i64,
     /// Weighted sums of `y`, `h`, `y^2`, `y h`, `h^2` (1/16 px, weights `1 << WEIGHT_LOG2`).
     sy: i64,
@@ -78,7 +82,7 @@ impl GroundPlane {
         let sixteenths = |v: Q16| (v.to_bits().clamp(0, (1 << 30) - 1) >> SIXTEENTHS) as i64;
         let (y, h) = (sixteenths(cy), sixteenths(hy)); // < 2^18
         let add = |s: &mut i64, v: i64| *s += (v << WEIGHT_LOG2) - (*s >> FORGET_LOG2);
-        add(&mut self.n, 1);
+        add(&mut self.n, 1 << WEIGHT_FRACTION_BITS);
         add(&mut self.sy, y);
         add(&mut self.sh, h);
         add(&mut self.syy, y * y);
@@ -86,15 +90,36 @@ impl GroundPlane {
         add(&mut self.shh, h * h);
     }
 
+    /// Moves every sample as the picture moved: row `y -> zoom y + offset`, half-height
+    /// `h -> zoom h` (`zoom` Q16.16 in `[1/8, 8]`, `offset` px, Q16.16), so that samples
+    /// from before a camera's tilt or zoom fit with those after it. Sums saturate.
+    pub fn move_rows(&mut self, zoom: Q16, offset: Q16) {
+        let one = Q16::ONE.to_bits() as i128;
+        let z = zoom.to_bits().clamp(one as i32 >> 3, (one as i32) << 3) as i128;
+        let b = (offset.to_bits() >> SIXTEENTHS) as i128;
+        let n = self.n as i128;
+        // `z s` and `z^2 s` of a sum `s`, back to its own scale.
+        let once = |s: i64| (z * s as i128) >> Q16::FRAC_BITS;
+        let twice = |s: i64| (((z * z) >> Q16::FRAC_BITS) * s as i128) >> Q16::FRAC_BITS;
+        let (zy, zh) = (once(self.sy), once(self.sh));
+        let fit = |v: i128| v.clamp(i64::MIN as i128, i64::MAX as i128) as i64;
+        self.syy = fit(twice(self.syy) + 2 * b * zy + ((b * b * n) >> WEIGHT_FRACTION_BITS));
+        self.syh = fit(twice(self.syh) + b * zh);
+        self.shh = fit(twice(self.shh));
+        self.sy = fit(zy + ((b * n) >> WEIGHT_FRACTION_BITS));
+        self.sh = fit(zh);
+    }
+
     /// The slope `k` of half-height against row (px/px, Q16.16 clamped to `[-4, 4]`), or
     /// `None` while the fit is not trustworthy: under 16 samples' weight, rows spread
     /// (standard deviation) no more than `min_spread` (px, Q16.16), or `r^2 < 1/2`.
     pub fn slope(&self, min_spread: Q16) -> Option<Q16> {
-        if self.n < MIN_WEIGHT {
+        let weight = self.n >> WEIGHT_FRACTION_BITS;
+        if weight < MIN_WEIGHT {
             return None;
         }
         // The total weight tends to `2^(WEIGHT_LOG2 + FORGET_LOG2)` from below.
-        let n = u32::try_from(self.n).ok()?;
+        let n = u32::try_from(weight).ok()?;
         // Weighted means and (co)variances, in 1/16 px and (1/16 px)^2:
         // `(s_ab n - s_a s_b) / n^2`, rounded toward zero.
         let moment = |s_ab: i64, s_a: i64, s_b: i64| {
@@ -203,6 +228,47 @@ mod tests {
         assert_eq!(noise.slope(q(5.0)), None, "size independent of row");
     }
 
+    /// A tilt of 60 px between two runs of samples of `hy = cy / 4`: moved, the old
+    /// samples fit with the new ones; not moved, the fit is lost.
+    #[test]
+    fn moved_rows_keep_the_fit_across_a_tilt() {
+        for moved in [true, false] {
+            let mut g = GroundPlane::new();
+            for i in 0..40 {
+                let cy = 100.0 + i as f64;
+                g.observe(q(cy), q(cy / 4.0));
+            }
+            if moved {
+                g.move_rows(Q16::ONE, q(60.0));
+            }
+            for i in 0..40 {
+                let cy = 100.0 + i as f64;
+                g.observe(q(cy + 60.0), q(cy / 4.0));
+            }
+            let k = g.slope(q(10.0));
+            match moved {
+                true => assert!((k.unwrap().to_f64() - 0.25).abs() < 0.002, "{k:?}"),
+                false => assert!(k.is_none_or(|k| (k.to_f64() - 0.25).abs() > 0.03), "{k:?}"),
+            }
+        }
+        // A zoom by 2 about row 0 doubles rows and heights: the slope stays.
+        let mut g = GroundPlane::new();
+        for i in 0..40 {
+            let cy = 50.0 + 2.0 * i as f64;
+            g.observe(q(cy), q(cy / 4.0));
+        }
+        g.move_rows(Q16::from_int(2), Q16::ZERO);
+        for i in 0..40 {
+            let cy = 100.0 + 4.0 * i as f64;
+            g.observe(q(cy), q(cy / 4.0));
+        }
+        assert!((g.slope(q(10.0)).unwrap().to_f64() - 0.25).abs() < 0.002);
+        // Extreme moves saturate instead of overflowing.
+        g.move_rows(Q16::MAX, Q16::MAX);
+        g.move_rows(Q16::MIN, Q16::MIN);
+        let _ = g.slope(Q16::ZERO);
+    }
+
     #[test]
     fn forgets_an_old_slope() {
         let mut g = GroundPlane::new();
@@ -220,10 +286,11 @@ mod tests {
 
     /// The slope by `i128` division, as the fit is defined.
     fn slope_i128(g: &GroundPlane, min_spread: Q16) -> Option<Q16> {
-        if g.n < MIN_WEIGHT {
+        if g.n >> WEIGHT_FRACTION_BITS < MIN_WEIGHT {
             return None;
         }
-        let (n, sy, sh) = (g.n as i128, g.sy as i128, g.sh as i128);
+        let n = (g.n >> WEIGHT_FRACTION_BITS) as i128;
+        let (sy, sh) = (g.sy as i128, g.sh as i128);
         let vy = (g.syy as i128 * n - sy * sy) / (n * n);
         let vh = (g.shh as i128 * n - sh * sh) / (n * n);
         let cov = (g.syh as i128 * n - sy * sh) / (n * n);

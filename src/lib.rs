@@ -129,8 +129,8 @@ pub use image::{
 };
 pub use rect::Rect;
 pub use tracker::{
-    Config, ConfigError, Estimate, LumaTracker, Rgb256Tracker, RgbTracker, Status, TargetModel,
-    Tracker, Variant, YuvTracker,
+    CameraMotion, Config, ConfigError, Estimate, LumaTracker, Rgb256Tracker, RgbTracker, Status,
+    TargetModel, Tracker, Variant, YuvTracker,
 };
 pub use window::Ellipse;
 

@@ -1,19 +1,20 @@
-//! `ImageView::new`, then `Tracker::new`, `step`, `step_profiled`, `reset` and `relocate`
-//! on frames of any size, stride, pixel format and content, with any configuration.
+//! `ImageView::new`, then `Tracker::new`, `step`, `step_profiled`, `reset`, `relocate` and
+//! `camera_moved` on frames of any size, stride, pixel format and content, with any
+//! configuration and any camera motion.
 //!
 //! Oracles: no panic (the build keeps overflow checks and debug assertions on); `new`
 //! succeeds exactly when the configuration validates and the initial ellipse is
 //! acceptable; a failed `reset` or `relocate` leaves the tracker unchanged, `relocate`
-//! keeps the model; every estimate keeps the documented guarantees ([`rbtrack_fuzz::check_estimate`]).
+//! and `camera_moved` keep the model; every estimate keeps the documented guarantees ([`rbtrack_fuzz::check_estimate`]).
 #![no_main]
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use rbtrack::image::{Binning, ImageView, Luma64, PixelFormat, Rgb8x8x4, Rgb8x8x8, Yuv8x8x4};
 use rbtrack::profile::CycleCounter;
-use rbtrack::tracker::Tracker;
+use rbtrack::tracker::{CameraMotion, Tracker};
 use rbtrack_fuzz::{
-    check_estimate, init_is_valid, with_format, ConfigSpec, EllipseSpec, Format, FrameSpec,
+    check_estimate, init_is_valid, with_format, ConfigSpec, EllipseSpec, Format, FrameSpec, Q,
 };
 
 /// Tracker sizes: binning, particles `N`, bins `B`.
@@ -35,6 +36,8 @@ enum Op {
     Reset(Option<FrameSpec>, EllipseSpec),
     /// A relocation on a new frame (or the first) to an ellipse, keeping the model.
     Relocate(Option<FrameSpec>, EllipseSpec),
+    /// The picture moved: shift `(dx, dy)`, zoom, zoom centre.
+    CameraMoved([Q; 5]),
 }
 
 #[derive(Arbitrary, Debug, Clone)]
@@ -86,6 +89,18 @@ fn run<Bn: Binning, const N: usize, const B: usize, P: PixelFormat>(input: &Inpu
             Op::Step(spec) => (spec, None),
             Op::Reset(spec, ellipse) => (spec, Some((ellipse, false))),
             Op::Relocate(spec, ellipse) => (spec, Some((ellipse, true))),
+            Op::CameraMoved([dx, dy, zoom, centre_x, centre_y]) => {
+                let before = tracker.model().clone();
+                tracker.camera_moved(&CameraMotion {
+                    dx: dx.get(),
+                    dy: dy.get(),
+                    zoom: zoom.get(),
+                    centre_x: centre_x.get(),
+                    centre_y: centre_y.get(),
+                });
+                assert_eq!(tracker.model(), &before, "a camera motion keeps the model");
+                continue;
+            }
             Op::Profiled(start) => {
                 let (e, _cycles) = tracker.step_profiled(&frame, Wild(*start));
                 let pixels = tracker.pixels_visited();

@@ -79,6 +79,7 @@
 //! assert!((estimate.ellipse.cx.to_f64() - 31.5).abs() < 3.0);
 //! ```
 
+mod camera;
 mod config;
 mod contrast;
 mod estimate;
@@ -89,6 +90,7 @@ mod size;
 mod weigh;
 
 pub use crate::resample::Scheme;
+pub use camera::CameraMotion;
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
 pub use estimate::{Estimate, Status};
 pub use model::TargetModel;
