@@ -392,6 +392,29 @@ pub fn precision_plot(
     line_plot(path.as_ref(), title, &axes, series, legend)
 }
 
+/// Error plot (PNG): each series' value per frame (`x` from 0 to its length), in
+/// `[0, 1]`, with `y_label` naming the quantity; the legend shows each series' mean.
+pub fn error_plot(
+    path: impl AsRef<Path>,
+    title: &str,
+    y_label: &'static str,
+    series: &[Series],
+) -> Result<(), DrawError> {
+    let frames = series.iter().map(|s| s.values.len()).max().unwrap_or(0);
+    let legend = |s: &Series| {
+        let mean = s.values.iter().sum::<f64>() / s.values.len().max(1) as f64;
+        format!("{} [mean {mean:.3}]", s.label)
+    };
+    let axes = Axes {
+        x_label: "frame",
+        x_decimals: 0,
+        y_label,
+        x_max: frames.saturating_sub(1).max(1) as f64,
+        legend_at: SeriesLabelPosition::UpperRight,
+    };
+    line_plot(path.as_ref(), title, &axes, series, legend)
+}
+
 struct Axes {
     x_label: &'static str,
     x_decimals: usize,

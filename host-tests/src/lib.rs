@@ -1,10 +1,12 @@
 //! Host harness for rbtrack: f64 reference implementations, synthetic scenes, metrics and
 //! the `rbtrack` command-line program.
 
+pub mod camera;
 pub mod cli;
 pub mod config_fields;
 pub mod draw;
 pub mod faults;
+pub mod follow;
 pub mod loss;
 pub mod metrics;
 pub mod paper;

@@ -13,7 +13,7 @@ use rbtrack::image::{
     Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4, Rgb8x8x8,
     Uyvy, Yuv8x8x4, Yuyv,
 };
-use rbtrack::tracker::{Config, ConfigError, Estimate, Tracker, Variant};
+use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Tracker, Variant};
 use rbtrack::window::Ellipse;
 use std::fmt;
 use std::time::{Duration, Instant};
@@ -121,6 +121,9 @@ pub struct Step {
 pub trait Run {
     /// Tracks one frame.
     fn step(&mut self, frame: &Frame) -> Result<Step, RunError>;
+    /// Tells the tracker how the picture moved before the next frame
+    /// (`Tracker::camera_moved`).
+    fn camera_moved(&mut self, motion: &CameraMotion);
     /// The current estimate (the initial box's before any step).
     fn estimate(&self) -> Estimate;
     /// The ground-plane slope in use (`Tracker::scale_per_row`), px/px.
@@ -212,6 +215,10 @@ impl<Bn: Binning, const N: usize, const B: usize> Run for Runner<Bn, N, B> {
             elapsed,
             pixels_visited: self.tracker.pixels_visited(),
         })
+    }
+
+    fn camera_moved(&mut self, motion: &CameraMotion) {
+        self.tracker.camera_moved(motion);
     }
 
     fn estimate(&self) -> Estimate {

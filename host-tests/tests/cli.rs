@@ -1401,6 +1401,8 @@ fn readme_host_quick_start_runs_as_written() {
     }
     // What the lines promise to write.
     assert!(work.join("out/demo/strip.png").is_file());
+    assert!(work.join("out/follow/error.png").is_file());
+    assert!(work.join("out/follow/view.gif").is_file());
     let rows = std::fs::read_to_string(work.join("out/track.csv")).unwrap();
     assert_eq!(rows.lines().count(), FRAMES + 1, "{rows}");
     assert_eq!(
@@ -1408,4 +1410,75 @@ fn readme_host_quick_start_runs_as_written() {
         FRAMES
     );
     let _ = std::fs::remove_dir_all(root);
+}
+
+#[test]
+fn follow_runs_the_closed_loop_and_draws_it() {
+    let dir = temp_dir("follow");
+    let out = dir.join("out");
+    let o = rbtrack(&["follow", "--out", path(&out), "--no-gif", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc = json(&o);
+    assert_eq!(doc["scene"], "synthetic perspective scene");
+    assert_eq!(doc["view"], serde_json::json!([320, 240]));
+    assert_eq!(doc["band"], 32.0);
+    let settling = doc["settling"].as_array().unwrap();
+    assert_eq!(settling.len(), 2, "the start and the knock");
+    assert!(
+        settling.iter().all(|s| s.as_u64().is_some_and(|n| n <= 5)),
+        "{doc}"
+    );
+    let centred = doc["centred"].as_f64().unwrap();
+    assert!((0.9..=1.0).contains(&centred), "{doc}");
+    for file in ["strip.png", "error.png"] {
+        let (w, _) = image::image_dimensions(out.join(file)).unwrap();
+        assert!(w > 0);
+    }
+    assert!(!out.join("view.gif").exists());
+    let missing = rbtrack(&["follow", path(&dir.join("none"))]);
+    assert_one_line_error(&missing, "follow without a sequence folder", "none");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn camera_motion_file_is_applied_and_checked() {
+    let dir = temp_dir("camera-motion");
+    let seq = dir.join("Tiny");
+    write_sequence(&seq, 5);
+    let csv = |name: &str, motion: Option<&Path>| {
+        let file = dir.join(name);
+        let mut args = vec!["track", path(&seq), "--per-frame", path(&file)];
+        if let Some(m) = motion {
+            args.extend(["--camera-motion", path(m)]);
+        }
+        let o = rbtrack(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read_to_string(&file).unwrap()
+    };
+    let still = csv("still.csv", None);
+    let motion = dir.join("motion.csv");
+    std::fs::write(&motion, "frame,dx,dy,zoom\n2,0,0\n").unwrap();
+    assert_eq!(
+        csv("zero.csv", Some(&motion)),
+        still,
+        "no motion changes nothing"
+    );
+    std::fs::write(&motion, "frame,dx,dy,zoom\n3,-12.5,4,1.1\n").unwrap();
+    let moved = csv("moved.csv", Some(&motion));
+    let lines = |t: &str| t.lines().map(str::to_owned).collect::<Vec<_>>();
+    let (a, b) = (lines(&still), lines(&moved));
+    assert_eq!(a[..3], b[..3], "frames before the motion are unchanged");
+    assert_ne!(a[3], b[3], "frame 3 is tracked after the motion");
+    for (text, says) in [
+        (
+            "frame,dx,dy\n1,2,3\n",
+            "line 2: the frame must be a number from 2",
+        ),
+        ("4,a,0\n", "line 1: dx, dy and zoom must be numbers"),
+    ] {
+        std::fs::write(&motion, text).unwrap();
+        let o = rbtrack(&["track", path(&seq), "--camera-motion", path(&motion)]);
+        assert_one_line_error(&o, text, says);
+    }
+    let _ = std::fs::remove_dir_all(dir);
 }

@@ -22,6 +22,8 @@ const EXAMPLES: &str = "Examples:
   rbtrack track dump.bin --raw 320x240:rgb565le --init 120,80,30,60
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --set colour_sigma=0.15
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --starts spatial
+  rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --camera pan-known
+  rbtrack follow ../shared/data/Woman
   rbtrack frames ../shared/data/Crossing out/Crossing.rgb
   rbtrack paper --runs 10";
 
@@ -55,6 +57,12 @@ pub enum Command {
     /// sequence and tracker, the mean over sequences, success and precision plots
     #[command(allow_negative_numbers = true)]
     Eval(EvalArgs),
+    /// Follow a target with a camera on a pan/tilt head, in closed loop: a virtual camera
+    /// sees half of each frame where the head points, the colour PF tracks, the pan/tilt
+    /// controller turns the head; centring figures, the camera's view and the error over
+    /// time
+    #[command(allow_negative_numbers = true)]
+    Follow(FollowArgs),
     /// Decode one sequence folder's frames as track and eval do and write them as one
     /// raw RGB888 dump; prints WIDTHxHEIGHT:rgb888 and the frame count
     Frames(FramesArgs),
@@ -62,6 +70,36 @@ pub enum Command {
     /// sweep S = 1..15 and the particle-count comparison
     #[command(allow_negative_numbers = true)]
     Paper(PaperArgs),
+}
+
+/// Options of `rbtrack follow`.
+#[derive(Debug, Args)]
+pub struct FollowArgs {
+    /// Sequence folder (OTB layout, with ground truth) [default: the built-in synthetic
+    /// scene]
+    #[arg(value_name = "SEQUENCE_DIR")]
+    pub sequence: Option<PathBuf>,
+    /// Tracker
+    #[arg(long, value_enum, value_name = "T", default_value = "pf")]
+    pub tracker: TrackerKind,
+    /// Seed of the tracker's random draws
+    #[arg(long, value_name = "S", default_value = "1")]
+    pub seed: u64,
+    /// Configuration and particles.
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Box convention of the ground-truth file.
+    #[command(flatten)]
+    pub convention: Convention,
+    /// Output folder (view.gif, strip.png, error.png)
+    #[arg(long, value_name = "DIR", default_value = "out/follow")]
+    pub out: PathBuf,
+    /// Skip the animated GIF
+    #[arg(long)]
+    pub no_gif: bool,
+    /// Print one JSON object instead of the text
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Options of `rbtrack frames`.
@@ -191,6 +229,11 @@ pub struct TrackArgs {
     /// Write a CSV row per frame: frame, box, ellipse, velocity, confidence, status
     #[arg(long = "per-frame", value_name = "FILE")]
     pub per_frame: Option<PathBuf>,
+    /// Tell the tracker how the picture moved (a pan/tilt head's commands, an IMU): CSV
+    /// lines frame,dx,dy[,zoom], the frame numbered from 1, the shift in px (the picture
+    /// moving right and down is positive), the zoom about the frame's centre
+    #[arg(long = "camera-motion", value_name = "FILE")]
+    pub camera_motion: Option<PathBuf>,
     /// Write every frame as DIR/0001.png, ... with the estimate, its status and
     /// confidence, and the ground truth drawn
     #[arg(long, value_name = "DIR")]
@@ -262,6 +305,12 @@ pub struct EvalArgs {
     /// from each)
     #[arg(long, value_enum, value_name = "S", default_value = "box")]
     pub starts: Starts,
+    /// A virtual camera over each sequence: still (a window 3/4 of the frame's width and
+    /// height, centred on the first box as far as the frame allows), pan (the window sweeping back and forth, the tracker not
+    /// told) or pan-known (the same sweep, the tracker told each frame's shift); ground
+    /// truth moves with the window [default: the whole frame]
+    #[arg(long, value_enum, value_name = "C")]
+    pub camera: Option<crate::camera::Camera>,
     /// Configuration and particles.
     #[command(flatten)]
     pub config: ConfigArgs,

@@ -55,6 +55,7 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
         },
         rendered,
         &truth[0],
+        &[],
         |i, frame, runs| {
             let in_strip = strip_at.contains(&i);
             let in_gif = gif && i % 2 == 0;

@@ -11,12 +11,15 @@ use super::{
     config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
     overrides, progress_bar, wrote, Failure, TrackerKind,
 };
+use crate::camera::{Camera, VirtualCamera};
 use crate::config_fields::ConfigJson;
-use crate::metrics::{Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
+use crate::metrics::{BBox, Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
 use crate::pixels::Format;
 use crate::run::{Bins, Shape};
 use crate::sequence::{self, folder_name, GtOrigin, Sequence};
+use clap::ValueEnum;
 use indicatif::ProgressBar;
+use rbtrack::tracker::CameraMotion;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -35,6 +38,8 @@ struct EvalJson<'a> {
     bins: Bins,
     seeds: &'a [u64],
     starts: &'a [Start],
+    /// The virtual camera, if any.
+    camera: Option<Camera>,
     format: &'static str,
     box_origin: &'static str,
     zero_based_sequences: &'a [String],
@@ -53,6 +58,7 @@ struct Plan<'a> {
     shape: Shape,
     format: Format,
     overlay: Option<&'a Path>,
+    camera: Option<Camera>,
     label_seeds: bool,
     bar: &'a ProgressBar,
 }
@@ -131,6 +137,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         shape: args.config.shape(),
         format: args.format,
         overlay: args.overlay.as_deref(),
+        camera: args.camera,
         label_seeds: seeds.len() > 1,
         bar: &bar,
     };
@@ -189,6 +196,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
             bins: args.config.bins,
             seeds: &seeds,
             starts,
+            camera: args.camera,
             format: args.format.name(),
             box_origin: args.convention.origin().name(),
             zero_based_sequences: &args.zero_based_sequences,
@@ -266,6 +274,19 @@ fn header(
     if specs.len() > trackers.len() {
         text += "; scores are means over the runs, AUC min and max the lowest and highest \
                  run (for mean: of the set's mean AUC per seed)";
+    }
+    if let Some(camera) = args.camera {
+        text += &format!(
+            "; virtual camera {}: a window 3/4 of each frame's width and height, first centred on the target, {}",
+            camera
+                .to_possible_value()
+                .map_or(String::new(), |v| v.get_name().to_owned()),
+            match camera {
+                Camera::Still => "still",
+                Camera::Pan => "sweeping back and forth, the tracker not told",
+                Camera::PanKnown => "sweeping back and forth, the tracker told each shift",
+            }
+        );
     }
     text += "; ms/frame is tracking only\n";
     for s in specs
@@ -362,46 +383,65 @@ fn run_in_parallel(seqs: &[Sequence], plan: &Plan) -> Vec<Result<SequenceResult,
 }
 
 /// Every run of `plan` over one sequence, from its start of the first ground-truth box,
-/// scored.
+/// scored; through the plan's virtual camera, if any.
 fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
-    let init = seq
+    let (w, h) = (seq.width, seq.height);
+    let first = seq
         .init_box()
         .ok_or_else(|| fail(format!("{} is empty", sequence::GROUNDTRUTH_FILE)))?;
+    let camera = plan.camera.map(|c| VirtualCamera::new(c, w, h, &first));
+    let window = |i: usize| camera.map(|c| c.window(i));
+    let groundtruth: Vec<BBox> = match camera {
+        Some(_) => (0..)
+            .zip(&seq.groundtruth)
+            .filter_map(|(i, b)| window(i).map(|v| v.to_view(b)))
+            .collect(),
+        None => seq.groundtruth.clone(),
+    };
+    let (vw, vh) = window(0).map_or((w, h), |v| (v.width, v.height));
+    let init = window(0).map_or(first, |v| v.to_view(&first));
     for spec in plan.specs {
         let start = spec.start.apply(&init);
-        check_init(
-            &start,
-            seq.width,
-            seq.height,
-            &seq.origin.from_zero_based(start),
-        )?;
+        check_init(&start, vw, vh, &seq.origin.from_zero_based(start))?;
     }
     let overlay = plan.overlay.map(|d| d.join(&seq.name));
     if let Some(dir) = &overlay {
         create_dir(dir)?;
     }
     let format = plan.format;
-    let frames = seq.frames().map(|f| {
-        f.map_err(fail)
-            .and_then(|f| f.convert(format).map_err(fail))
+    let frames = (0..).zip(seq.frames()).map(|(i, f)| {
+        let f = f.map_err(fail)?;
+        let f = match window(i) {
+            Some(v) => v
+                .crop(&f)
+                .ok_or_else(|| fail("the camera's window leaves the frame"))?,
+            None => f,
+        };
+        f.convert(format).map_err(fail)
     });
-    let mut runs = track_frames(plan.specs, plan.shape, frames, &init, |i, frame, runs| {
-        plan.bar.inc(1);
-        match &overlay {
-            Some(dir) => write_overlay(
-                dir,
-                frame,
-                i,
-                seq.groundtruth.get(i),
-                runs,
-                plan.label_seeds,
-            ),
-            None => Ok(()),
-        }
-    })?
+    let motions: Vec<CameraMotion> = match camera {
+        Some(c) => (0..seq.len()).map(|i| c.told(i)).collect(),
+        None => Vec::new(),
+    };
+    let mut runs = track_frames(
+        plan.specs,
+        plan.shape,
+        frames,
+        &init,
+        &motions,
+        |i, frame, runs| {
+            plan.bar.inc(1);
+            match &overlay {
+                Some(dir) => {
+                    write_overlay(dir, frame, i, groundtruth.get(i), runs, plan.label_seeds)
+                }
+                None => Ok(()),
+            }
+        },
+    )?
     .complete()?;
     for r in &mut runs {
-        r.score(&seq.groundtruth);
+        r.score(&groundtruth);
     }
     Ok(SequenceResult {
         name: seq.name.clone(),

@@ -1,5 +1,5 @@
 //! The `rbtrack` command-line program: its arguments ([`args`]) and the work behind each
-//! subcommand ([`demo`], [`track`], [`eval`], [`frames()`], [`paper()`]); `main.rs` only parses and
+//! subcommand ([`demo`], [`track`], [`eval`], [`follow()`], [`frames()`], [`paper()`]); `main.rs` only parses and
 //! dispatches.
 //!
 //! Conventions:
@@ -18,6 +18,7 @@
 pub mod args;
 mod demo;
 mod eval;
+mod follow;
 mod frames;
 mod input;
 mod report;
@@ -26,6 +27,7 @@ mod track;
 
 pub use demo::demo;
 pub use eval::eval;
+pub use follow::follow;
 pub use frames::frames;
 pub use track::track;
 

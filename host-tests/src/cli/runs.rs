@@ -8,7 +8,7 @@ use crate::metrics::{BBox, Evaluation};
 use crate::pixels::Frame;
 use crate::run::{self, Options, RunError, Shape};
 use crate::sequence::GtOrigin;
-use rbtrack::tracker::{Config, ConfigError, Estimate, Status};
+use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Status};
 use serde::Serialize;
 use std::path::Path;
 use std::time::Duration;
@@ -197,7 +197,9 @@ impl Tracked {
 }
 
 /// Runs every spec in trackers of `shape` over `frames` from its start of `init`, the
-/// 0-based box of the first frame, each frame decoded once for all of them. After each
+/// 0-based box of the first frame, each frame decoded once for all of them. Before frame
+/// `i` every tracker is told `motions[i]`, how the picture moved (none past the end of
+/// `motions`). After each
 /// frame is tracked, `on_frame(index, frame, runs)` sees it with the runs so far (their
 /// last estimate is this frame's), e.g. to draw it. Results carry no evaluation. A failure
 /// before the first frame is tracked is an error; a later one ends the runs and is kept in
@@ -207,6 +209,7 @@ pub fn track_frames<I>(
     shape: Shape,
     frames: I,
     init: &BBox,
+    motions: &[CameraMotion],
     mut on_frame: impl FnMut(usize, &Frame, &[RunResult]) -> Result<(), Failure>,
 ) -> Result<Tracked, Failure>
 where
@@ -257,6 +260,9 @@ where
             }
         };
         for (runner, r) in runners.iter_mut().zip(&mut runs) {
+            if let Some(motion) = motions.get(index) {
+                runner.camera_moved(motion);
+            }
             match runner.step(&frame) {
                 Ok(step) => {
                     r.tracking += step.elapsed;

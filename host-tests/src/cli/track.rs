@@ -10,6 +10,7 @@ use super::{
     config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
     overrides, progress_bar, wrote, Failure, TrackerKind,
 };
+use crate::camera::parse_motions;
 use crate::config_fields::ConfigJson;
 use crate::loss::LossReport;
 use crate::run::Bins;
@@ -84,6 +85,15 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
         create_dir(dir)?;
     }
 
+    let motions = match &args.camera_motion {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| fail(format!("cannot read {}: {e}", path.display())))?;
+            parse_motions(&text, width, height)
+                .map_err(|e| fail(format!("{}: {e}", path.display())))?
+        }
+        None => Vec::new(),
+    };
     let name = input.name();
     let bar = progress_bar(input.len().map(|n| n as u64), &name);
     let frames = input.frames(format)?;
@@ -92,6 +102,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
         args.config.shape(),
         frames,
         &init,
+        &motions,
         |index, frame, runs| {
             bar.inc(1);
             match &args.overlay {
