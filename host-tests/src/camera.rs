@@ -79,21 +79,30 @@ impl Camera {
 }
 
 /// A [`Camera`] over one sequence: pointed at the target in the first frame (the window
-/// centred on its box as far as the scene allows), then still or sweeping from there.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// centred on its box as far as the scene allows), then still, or sweeping from there
+/// while keeping the target's centre at least 1/8 of the window inside its edges (as far
+/// as the scene allows): a pan that never loses the target from view, so that what it
+/// changes is the motion, not what is seen.
+#[derive(Clone, Debug, PartialEq)]
 pub struct VirtualCamera {
     camera: Camera,
     /// The scene's size, px.
     scene: (u32, u32),
     /// The first window's top-left corner, px.
     start: (u32, u32),
+    /// The target's centre in each frame (`None` without a valid box), scene px.
+    centres: Vec<Option<(f64, f64)>>,
 }
 
 impl VirtualCamera {
-    /// `camera` over a scene of `width x height` px whose first frame's target is `first`.
-    pub fn new(camera: Camera, width: u32, height: u32, first: &BBox) -> Self {
+    /// `camera` over a scene of `width x height` px whose target's box in each frame is
+    /// `truth` (0-based, scene px; the first places the first window).
+    pub fn new(camera: Camera, width: u32, height: u32, truth: &[BBox]) -> Self {
         let (mx, my) = margins(width, height);
-        let (cx, cy) = first.centre();
+        let (cx, cy) = truth.first().map_or(
+            ((width as f64 - 1.0) / 2.0, (height as f64 - 1.0) / 2.0),
+            BBox::centre,
+        );
         let aim = |centre: f64, side: u32, margin: u32| {
             let left = centre - (side - 2 * margin) as f64 / 2.0;
             left.round().clamp(0.0, (2 * margin) as f64) as u32
@@ -102,6 +111,10 @@ impl VirtualCamera {
             camera,
             scene: (width, height),
             start: (aim(cx, width, mx), aim(cy, height, my)),
+            centres: truth
+                .iter()
+                .map(|b| b.is_valid().then(|| b.centre()))
+                .collect(),
         }
     }
 
@@ -109,18 +122,23 @@ impl VirtualCamera {
     pub fn window(&self, index: usize) -> Window {
         let (width, height) = self.scene;
         let (mx, my) = margins(width, height);
+        let (vw, vh) = (width - 2 * mx, height - 2 * my);
         let (x, y) = match self.camera {
             Camera::Still => self.start,
-            Camera::Pan | Camera::PanKnown => (
-                sweep(index, self.start.0, mx, (mx / 5).max(1)),
-                sweep(index, self.start.1, my, (my / 10).max(1)),
-            ),
+            Camera::Pan | Camera::PanKnown => {
+                let x = sweep(index, self.start.0, mx, (mx / 5).max(1));
+                let y = sweep(index, self.start.1, my, (my / 10).max(1));
+                match self.centres.get(index).copied().flatten() {
+                    Some((cx, cy)) => (keep(x, cx, vw, 2 * mx), keep(y, cy, vh, 2 * my)),
+                    None => (x, y),
+                }
+            }
         };
         Window {
             x,
             y,
-            width: width - 2 * mx,
-            height: height - 2 * my,
+            width: vw,
+            height: vh,
         }
     }
 
@@ -132,6 +150,17 @@ impl VirtualCamera {
             _ => CameraMotion::STILL,
         }
     }
+}
+
+/// The window edge `left` moved as little as needed to keep `centre` at least `view / 8`
+/// inside a window of `view` px, within `0..=reach`, px.
+fn keep(left: u32, centre: f64, view: u32, reach: u32) -> u32 {
+    let inset = (view / 8) as f64;
+    let (low, high) = (centre - (view as f64 - inset), centre - inset);
+    (left as f64)
+        .clamp(low.min(high), high)
+        .round()
+        .clamp(0.0, reach as f64) as u32
 }
 
 /// The window's margin on each side of a `width x height` scene, px.
@@ -222,7 +251,8 @@ mod tests {
     #[test]
     fn windows_aim_at_the_target_stay_in_the_scene_and_the_told_shift_undoes_the_pan() {
         let (w, h) = (320, 240);
-        let camera = |c| VirtualCamera::new(c, w, h, &BBox::new(150.0, 100.0, 21.0, 41.0));
+        let truth = vec![BBox::new(150.0, 100.0, 21.0, 41.0); 200];
+        let camera = |c| VirtualCamera::new(c, w, h, &truth);
         // Centred on the box's centre (160, 120) is the middle window.
         let middle = Window {
             x: 40,
@@ -232,7 +262,7 @@ mod tests {
         };
         assert_eq!(camera(Camera::Still).window(7), middle);
         // A target near the corner gets the window as far as it goes.
-        let corner = VirtualCamera::new(Camera::Still, w, h, &BBox::new(2.0, 300.0, 8.0, 8.0));
+        let corner = VirtualCamera::new(Camera::Still, w, h, &[BBox::new(2.0, 300.0, 8.0, 8.0)]);
         assert_eq!((corner.window(0).x, corner.window(0).y), (0, 60));
         let (pan, known) = (camera(Camera::Pan), camera(Camera::PanKnown));
         assert_eq!(pan.window(0), middle);
@@ -247,6 +277,18 @@ mod tests {
             assert_eq!(pan.told(i), CameraMotion::STILL);
         }
         assert_eq!(known.told(0), CameraMotion::STILL);
+        // The pan keeps the target 1/8 of the window (30 px) inside: a target at column 300
+        // holds the window's left edge at 80 (its centre at 300 - 80 = 220 = 240 - 30).
+        let right = vec![BBox::new(290.0, 100.0, 21.0, 41.0); 50];
+        let pan = VirtualCamera::new(Camera::Pan, w, h, &right);
+        assert!((0..50).all(|i| pan.window(i).x >= 80), "never loses it");
+        assert_eq!(keep(10, 300.0, 240, 80), 80);
+        assert_eq!(keep(70, 150.0, 240, 80), 70, "already inside");
+        assert_eq!(
+            keep(70, 400.0, 240, 80),
+            80,
+            "out of reach: as far as it goes"
+        );
     }
 
     #[test]

@@ -77,7 +77,7 @@ fn the_head_follows_the_synthetic_scene() {
 
 /// Mean success AUC of `variant` over seeds 1-3 on the ball seen by `camera`.
 fn auc(seq: &Sequence, frames: &[Frame], camera: Camera, variant: Variant) -> f64 {
-    let cam = VirtualCamera::new(camera, seq.width, seq.height, &seq.groundtruth[0]);
+    let cam = VirtualCamera::new(camera, seq.width, seq.height, &seq.groundtruth);
     let truth: Vec<BBox> = (0..)
         .zip(&seq.groundtruth)
         .map(|(i, b)| cam.window(i).to_view(b))

@@ -306,9 +306,10 @@ pub struct EvalArgs {
     #[arg(long, value_enum, value_name = "S", default_value = "box")]
     pub starts: Starts,
     /// A virtual camera over each sequence: still (a window 3/4 of the frame's width and
-    /// height, centred on the first box as far as the frame allows), pan (the window sweeping back and forth, the tracker not
-    /// told) or pan-known (the same sweep, the tracker told each frame's shift); ground
-    /// truth moves with the window [default: the whole frame]
+    /// height, centred on the first box as far as the frame allows), pan (the window
+    /// sweeping back and forth, keeping the target in view, the tracker not told) or
+    /// pan-known (the same sweep, the tracker told each frame's shift); ground truth moves
+    /// with the window [default: the whole frame]
     #[arg(long, value_enum, value_name = "C")]
     pub camera: Option<crate::camera::Camera>,
     /// Configuration and particles.

@@ -283,8 +283,8 @@ fn header(
                 .map_or(String::new(), |v| v.get_name().to_owned()),
             match camera {
                 Camera::Still => "still",
-                Camera::Pan => "sweeping back and forth, the tracker not told",
-                Camera::PanKnown => "sweeping back and forth, the tracker told each shift",
+                Camera::Pan => "sweeping back and forth keeping the target in view, the tracker not told",
+                Camera::PanKnown => "sweeping back and forth keeping the target in view, the tracker told each shift",
             }
         );
     }
@@ -389,9 +389,11 @@ fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
     let first = seq
         .init_box()
         .ok_or_else(|| fail(format!("{} is empty", sequence::GROUNDTRUTH_FILE)))?;
-    let camera = plan.camera.map(|c| VirtualCamera::new(c, w, h, &first));
-    let window = |i: usize| camera.map(|c| c.window(i));
-    let groundtruth: Vec<BBox> = match camera {
+    let camera = plan
+        .camera
+        .map(|c| VirtualCamera::new(c, w, h, &seq.groundtruth));
+    let window = |i: usize| camera.as_ref().map(|c| c.window(i));
+    let groundtruth: Vec<BBox> = match &camera {
         Some(_) => (0..)
             .zip(&seq.groundtruth)
             .filter_map(|(i, b)| window(i).map(|v| v.to_view(b)))
@@ -419,7 +421,7 @@ fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
         };
         f.convert(format).map_err(fail)
     });
-    let motions: Vec<CameraMotion> = match camera {
+    let motions: Vec<CameraMotion> = match &camera {
         Some(c) => (0..seq.len()).map(|i| c.told(i)).collect(),
         None => Vec::new(),
     };
