@@ -1,0 +1,233 @@
+//! The browser page (`web/`) in headless Chromium: it tracks a real sequence, given as
+//! lossless PNG frames, to the same boxes as `rbtrack track` on the same pixels, frame for
+//! frame, for both trackers; its run of the firmware's synthetic scene gives the firmware's
+//! checksum; it loads again from its service worker with the network cut; and it tracks a
+//! video file and the (fake) webcam as a person uses it, box dragged with the mouse.
+//!
+//! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`), Node with the harness's
+//! packages (`npm ci --prefix web/test`), the `wasm32-unknown-unknown` target and the
+//! shared sequences; without one of them the test says which and passes without running
+//! (fails, with `RBTRACK_REQUIRE_BROWSER` set, as CI sets it). The screenshots and the
+//! boxes stay in `target/browser/`.
+
+use rbtrack::profile::NoCounter;
+use rbtrack_firmware::run::{run_all, FirmwareTracker};
+use rbtrack_firmware::scene::FRAME_BYTES;
+use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence, GROUNDTRUTH_FILE};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Frames of the sequence tracked.
+const FRAMES: usize = 40;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// What the test needs that may be missing, or `None` when all is there.
+fn missing() -> Option<String> {
+    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    if !Path::new(&chromium).is_file() {
+        return Some(format!("no Chromium at {chromium} (set $CHROMIUM)"));
+    }
+    let node = Command::new("node").arg("--version").output();
+    if !node.is_ok_and(|o| o.status.success()) {
+        return Some("no node".into());
+    }
+    if !repo().join("web/test/node_modules/puppeteer-core").is_dir() {
+        return Some("no web/test/node_modules: run npm ci --prefix web/test".into());
+    }
+    let targets = Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output();
+    if !targets.is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("wasm32-unknown-unknown"))
+    {
+        return Some("no wasm32-unknown-unknown target: rustup target add it".into());
+    }
+    shared_data_dir()
+        .is_none()
+        .then(|| "no ../shared/data folder with the real sequences".into())
+}
+
+/// Runs `command`, failing the test with its output if it fails; returns stdout.
+fn run(command: &mut Command) -> String {
+    let out = command.output().expect("runs");
+    assert!(
+        out.status.success(),
+        "{command:?}: {}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
+    if let Some(why) = missing() {
+        assert!(
+            std::env::var_os("RBTRACK_REQUIRE_BROWSER").is_none(),
+            "RBTRACK_REQUIRE_BROWSER is set, but {why}"
+        );
+        println!("SKIPPED the browser test: {why}");
+        return;
+    }
+    let out = repo().join("target/browser");
+    let _ = std::fs::remove_dir_all(&out);
+    let dist = out.join("dist");
+    run(Command::new("bash")
+        .arg(repo().join("web/build.sh"))
+        .arg(&dist));
+
+    // The first frames of a real sequence, decoded by rbtrack, as PNG, and their ground truth.
+    let data = shared_data_dir().unwrap_or_default();
+    let name = "Crossing";
+    let seq = Sequence::open(data.join(name), GtOrigin::of_shared(name)).unwrap();
+    let dir = out.join(name);
+    std::fs::create_dir_all(dir.join("img")).unwrap();
+    for i in 0..FRAMES {
+        let f = seq.frame(i).unwrap();
+        let png = dir.join(format!("img/{:04}.png", i + 1));
+        image::save_buffer(
+            png,
+            &f.bytes,
+            f.width,
+            f.height,
+            image::ExtendedColorType::Rgb8,
+        )
+        .unwrap();
+    }
+    let truth = std::fs::read_to_string(seq.dir.join(GROUNDTRUTH_FILE)).unwrap();
+    let first: Vec<&str> = truth.lines().take(FRAMES).collect();
+    std::fs::write(dir.join(GROUNDTRUTH_FILE), first.join("\n") + "\n").unwrap();
+    let init = seq.init_box().unwrap();
+    let init = format!("{},{},{},{}", init.x, init.y, init.w, init.h);
+
+    let mut checksums = Vec::new();
+    for (tracker, code) in [("pf", "1"), ("rbpf", "0")] {
+        let host_csv = out.join(format!("host_{tracker}.csv"));
+        run(Command::new(env!("CARGO_BIN_EXE_rbtrack"))
+            .args(["track", "--tracker", tracker, "--per-frame"])
+            .arg(&host_csv)
+            .arg(&dir));
+        let page_out = out.join(format!("page_{tracker}"));
+        let figures = run(Command::new("node")
+            .arg(repo().join("web/test/browser.mjs"))
+            .arg("--dist")
+            .arg(&dist)
+            .arg("--frames")
+            .arg(dir.join("img"))
+            .args(["--box", &init, "--tracker", code, "--out"])
+            .arg(&page_out));
+        println!("{tracker}: {figures}");
+        let host = std::fs::read_to_string(&host_csv).unwrap();
+        let page = std::fs::read_to_string(page_out.join("boxes.csv")).unwrap();
+        assert_eq!(host.lines().count(), FRAMES + 1);
+        for (h, p) in host.lines().zip(page.lines()) {
+            assert_eq!(p, h, "{tracker}: the page's row differs from the host's");
+        }
+        assert_eq!(page.lines().count(), host.lines().count());
+        let doc: serde_json::Value = serde_json::from_str(figures.trim()).unwrap();
+        checksums.push(doc["checksum"].as_str().unwrap().to_owned());
+        assert_eq!(doc["offline"], true, "a reload without the network works");
+        assert!(page_out.join("screenshot.png").is_file());
+    }
+    // As a person uses it: the frames as a video, opened, the box dragged, Track pressed.
+    let clip = out.join("clip.webm");
+    let made = Command::new("ffmpeg")
+        .args(["-v", "error", "-nostdin", "-framerate", "30", "-i"])
+        .arg(dir.join("img/%04d.png"))
+        .args(["-c:v", "libvpx", "-b:v", "4M"])
+        .arg(&clip)
+        .status();
+    if made.is_ok_and(|s| s.success()) {
+        let video_out = out.join("page_video");
+        let figures = run(Command::new("node")
+            .arg(repo().join("web/test/browser.mjs"))
+            .arg("--dist")
+            .arg(&dist)
+            .arg("--video")
+            .arg(&clip)
+            .args(["--box", &init, "--out"])
+            .arg(&video_out));
+        println!("video: {figures}");
+        let doc: serde_json::Value = serde_json::from_str(figures.trim()).unwrap();
+        let tracked = doc["frames"].as_u64().unwrap() as usize;
+        assert!((FRAMES * 9 / 10..=FRAMES).contains(&tracked), "{figures}");
+        let csv = std::fs::read_to_string(video_out.join("boxes.csv")).unwrap();
+        let host = std::fs::read_to_string(out.join("host_pf.csv")).unwrap();
+        let (page_rows, host_rows): (Vec<&str>, Vec<&str>) =
+            (csv.lines().collect(), host.lines().collect());
+        assert_eq!(
+            page_rows[..2],
+            host_rows[..2],
+            "the header and the dragged box"
+        );
+        assert_eq!(page_rows.len(), tracked + 1);
+    } else {
+        println!("no ffmpeg with libvpx: the video path is not tried");
+    }
+
+    // The webcam path, on Chromium's fake camera (a moving test pattern), for 2 s.
+    let figures = run(Command::new("node")
+        .arg(repo().join("web/test/browser.mjs"))
+        .arg("--dist")
+        .arg(&dist)
+        .args(["--webcam", "2", "--box", "280,200,80,80", "--out"])
+        .arg(out.join("page_webcam")));
+    println!("webcam: {figures}");
+    let doc: serde_json::Value = serde_json::from_str(figures.trim()).unwrap();
+    assert!(doc["steps"].as_u64().unwrap() >= 10, "{figures}");
+
+    let mut frame = vec![0u8; FRAME_BYTES];
+    let mut tracker = Box::new(FirmwareTracker::unstarted());
+    let host = run_all(&mut tracker, &mut frame, NoCounter, |_, _| {}).unwrap();
+    let host = format!("{:#018x}", host.value());
+    for page in &checksums {
+        assert_eq!(page, &host, "the page's firmware-scene checksum");
+    }
+    if let Ok(qemu) = std::env::var("RBTRACK_FIRMWARE_CHECKSUM") {
+        assert_eq!(host, qemu.trim(), "QEMU's");
+    }
+    println!(
+        "page, host checksum {host}; screenshots in {}",
+        out.display()
+    );
+}
+
+/// The page writes its CSV with `fixed` (`web/www/rbtrack.js`), which must round as Rust's
+/// `{:.N}` does (half to even on the exact value; JavaScript's `toFixed` rounds halves up):
+/// on multiples of 1/8 (a tie at 2 decimals every other one), Q16.16 values and others.
+#[test]
+fn the_pages_decimals_are_rusts() {
+    let node = Command::new("node").arg("--version").output();
+    if !node.is_ok_and(|o| o.status.success()) {
+        println!("SKIPPED: no node");
+        return;
+    }
+    let mut values: Vec<(f64, usize)> = (-40..40).map(|i| (i as f64 / 8.0, 2)).collect();
+    let mut state = 12345u32;
+    for digits in [2, 3, 4] {
+        for _ in 0..200 {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            values.push((f64::from(state as i32 >> 8) / 65536.0, digits));
+        }
+        values.push((0.1 + 0.2, digits));
+        values.push((-0.0, digits));
+    }
+    let json: Vec<String> = values.iter().map(|(v, d)| format!("[{v:?},{d}]")).collect();
+    let module = repo().join("web/www/rbtrack.js");
+    let script = format!(
+        "import {{ fixed }} from {:?}; \
+         const values = JSON.parse(process.argv[1]); \
+         console.log(values.map(([v, d]) => fixed(v, d)).join(' '));",
+        format!("file://{}", module.display())
+    );
+    let out = run(Command::new("node")
+        .args(["--input-type=module", "-e", &script])
+        .arg(format!("[{}]", json.join(","))));
+    let page: Vec<&str> = out.split_whitespace().collect();
+    assert_eq!(page.len(), values.len());
+    for ((v, d), p) in values.iter().zip(page) {
+        assert_eq!(p, format!("{v:.d$}", d = *d), "{v:?} to {d} decimals");
+    }
+}
