@@ -7,7 +7,7 @@
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`), Node with the harness's
 //! packages (`npm ci --prefix web/test`), the `wasm32-unknown-unknown` target and the
 //! shared sequences; without one of them the test says which and passes without running
-//! (fails, with `RBTRACK_REQUIRE_BROWSER` set, as CI sets it). The screenshots and the
+//! (fails, with `RBTRACK_REQUIRE_BROWSER` set as CI sets it, for a missing tool). The screenshots and the
 //! boxes stay in `target/browser/`.
 
 use rbtrack::profile::NoCounter;
@@ -24,7 +24,7 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// What the test needs that may be missing, or `None` when all is there.
+/// What of the browser's tools the test needs may be missing, or `None` when all is there.
 fn missing() -> Option<String> {
     let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
     if !Path::new(&chromium).is_file() {
@@ -44,9 +44,7 @@ fn missing() -> Option<String> {
     {
         return Some("no wasm32-unknown-unknown target: rustup target add it".into());
     }
-    shared_data_dir()
-        .is_none()
-        .then(|| "no ../shared/data folder with the real sequences".into())
+    None
 }
 
 /// Runs `command`, failing the test with its output if it fails; returns stdout.
@@ -71,6 +69,10 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
         println!("SKIPPED the browser test: {why}");
         return;
     }
+    let Some(data) = shared_data_dir() else {
+        println!("SKIPPED the browser test: no ../shared/data folder with the real sequences");
+        return;
+    };
     let out = repo().join("target/browser");
     let _ = std::fs::remove_dir_all(&out);
     let dist = out.join("dist");
@@ -79,7 +81,6 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
         .arg(&dist));
 
     // The first frames of a real sequence, decoded by rbtrack, as PNG, and their ground truth.
-    let data = shared_data_dir().unwrap_or_default();
     let name = "Crossing";
     let seq = Sequence::open(data.join(name), GtOrigin::of_shared(name)).unwrap();
     let dir = out.join(name);
