@@ -17,7 +17,7 @@
 
 use crate::camera::Window;
 use crate::metrics::BBox;
-use crate::pixels::{Format, Frame};
+use crate::pixels::Frame;
 use crate::run::{self, Options};
 use rbtrack::fixed::Q16;
 use rbtrack::pantilt::{Command, PanTilt, PanTiltConfig};
@@ -284,9 +284,7 @@ pub fn follow<E: std::fmt::Display>(
         let window = rig.window(command.pan.to_f64() - offset, command.tilt.to_f64());
         let view = window
             .crop(&scene_frame)
-            .ok_or_else(|| format!("frame {}: not an RGB888 frame of the scene", index + 1))?
-            .convert(Format::Rgb888)
-            .map_err(|e| e.to_string())?;
+            .ok_or_else(|| format!("frame {}: not an RGB888 frame of the scene", index + 1))?;
         let seen = window.to_view(&truth[index]);
         let estimate = match &mut tracker {
             None => {

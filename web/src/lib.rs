@@ -109,6 +109,7 @@ trait Track {
         init: Ellipse,
     ) -> Result<(), ConfigError>;
     fn step(&mut self, frame: &ImageView<'_, Rgb888>) -> Estimate;
+    fn estimate(&self) -> Estimate;
     fn pixels_visited(&self) -> u32;
 }
 
@@ -126,6 +127,10 @@ impl<const N: usize> Track for RgbTracker<N> {
         RgbTracker::step(self, frame)
     }
 
+    fn estimate(&self) -> Estimate {
+        RgbTracker::estimate(self)
+    }
+
     fn pixels_visited(&self) -> u32 {
         RgbTracker::pixels_visited(self)
     }
@@ -134,7 +139,6 @@ impl<const N: usize> Track for RgbTracker<N> {
 /// One tracked target.
 pub struct Session {
     tracker: Box<dyn Track + Send>,
-    estimate: Estimate,
 }
 
 impl Session {
@@ -166,25 +170,17 @@ impl Session {
         tracker
             .start(config, frame, init)
             .map_err(WebError::Config)?;
-        let estimate = Estimate {
-            ellipse: init,
-            vx: Q16::ZERO,
-            vy: Q16::ZERO,
-            confidence: Q16::ONE,
-            status: rbtrack::Status::Tracking,
-        };
-        Ok(Self { tracker, estimate })
+        Ok(Self { tracker })
     }
 
     /// One frame.
     pub fn step(&mut self, frame: &ImageView<'_, Rgb888>) -> Estimate {
-        self.estimate = self.tracker.step(frame);
-        self.estimate
+        self.tracker.step(frame)
     }
 
     /// The last estimate (the initial ellipse before any step).
     pub fn estimate(&self) -> Estimate {
-        self.estimate
+        self.tracker.estimate()
     }
 
     /// Pixels the last step read (the step's cost, without counting instructions).
