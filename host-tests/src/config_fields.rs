@@ -103,6 +103,7 @@ fields! {
     readout,
     adapt_rate,
     adapt_above,
+    spread_penalty,
     uncertain_below,
     lost_below,
     redetect_share,

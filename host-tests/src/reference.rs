@@ -345,6 +345,7 @@ pub fn unmodelled(config: &Config) -> Option<&'static str> {
             "size_measurement",
         ),
         (config.redetect_prior != Q16::ONE, "redetect_prior"),
+        (config.spread_penalty != Q16::ZERO, "spread_penalty"),
         (config.learn_scale_per_row, "learn_scale_per_row"),
         (config.freeze_size, "freeze_size"),
     ]

@@ -149,5 +149,29 @@ fn faults_on_real_frames() {
             figures.push(((fault, variant), (lost, back)));
         }
     }
-    let _ = figures;
+    for (case, (lost, back)) in figures {
+        let (lost_bound, back_bound) = bounds(case);
+        for (what, got, bound) in [("Lost", lost, lost_bound), ("back", back, back_bound)] {
+            if let Some(bound) = bound {
+                assert!(
+                    got.is_some_and(|n| n <= bound),
+                    "{case:?}: frames until {what} {got:?}, at most {bound} expected"
+                );
+            }
+        }
+    }
+}
+
+/// The README's figures for a fault and tracker: frames until `Lost` and until back on
+/// the target, as upper bounds (`None`: never, which bounds nothing).
+fn bounds(case: (Fault, Variant)) -> (Option<usize>, Option<usize>) {
+    match case {
+        (Fault::Occluder, Variant::ColourPf) => (Some(0), None),
+        (Fault::Occluder, Variant::Rbpf) => (Some(0), Some(4)),
+        (Fault::CutAndPaste, Variant::ColourPf) => (None, Some(15)),
+        (Fault::CutAndPaste, Variant::Rbpf) => (None, Some(16)),
+        (Fault::Dropped, Variant::ColourPf) => (None, Some(1)),
+        (Fault::Dropped, Variant::Rbpf) => (None, Some(0)),
+        (Fault::Noise, _) => (Some(0), Some(0)),
+    }
 }

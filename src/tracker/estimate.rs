@@ -1,5 +1,6 @@
-//! Stage 4, estimate: where the particles put the target, how well that window matches
-//! the colour model (the confidence, which sets the status), and the model's adaptation.
+//! Stage 4, estimate: where the particles put the target, how sure they are of it (the
+//! confidence: how well that window matches the colour model, less how widely the
+//! particles disagree; it sets the status), and the model's adaptation.
 
 use super::particle::Particle;
 use super::{Readout, Tracker};
@@ -35,8 +36,9 @@ pub struct Estimate {
     pub vx: Q16,
     /// Vertical velocity, px/frame, Q16.16.
     pub vy: Q16,
-    /// Bhattacharyya coefficient of the estimate's window against the model, Q16.16 in
-    /// `[0, 1]`.
+    /// Bhattacharyya coefficient of the estimate's window against the model, less
+    /// `spread_penalty` times the particles' spread ([`super::Config::spread_penalty`]),
+    /// Q16.16 in `[0, 1]`.
     pub confidence: Q16,
     /// Tracking, uncertain or lost.
     pub status: Status,
@@ -86,12 +88,14 @@ impl Location {
 
 impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// The step's estimate: the particles' location by the configured read-out, its
-    /// window's coefficient against the model as the confidence, the status that gives;
-    /// the motion innovation followed while tracking, and the model adapted when the
-    /// confidence is high.
+    /// window's coefficient against the model less the spread's penalty as the
+    /// confidence, the status that gives; the motion innovation followed while tracking,
+    /// and the model adapted when the confidence is high.
     pub(super) fn read_out<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
         let location = self.locate();
-        let confidence = self.compare(frame, &location.ellipse).rho;
+        let rho = self.compare(frame, &location.ellipse).rho;
+        let penalty = self.config.spread_penalty * self.spread(&location.ellipse);
+        let confidence = rho.saturating_sub(penalty).clamp(Q16::ZERO, Q16::ONE);
         let estimate = Estimate {
             ellipse: location.ellipse,
             vx: location.vx,
@@ -177,6 +181,23 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         }
     }
 
+    /// The particles' weighted mean distance `|dx| + |dy|` from the centre of `e`, over
+    /// its mean half-axis (at least 1 px), Q16.16: 0 when they agree, about 1 when they
+    /// scatter over the target's size, more when they search the frame.
+    fn spread(&self, e: &Ellipse) -> Q16 {
+        let (mut sum, mut total) = (0i64, 0i64);
+        for (p, &w) in self.state.particles.iter().zip(self.state.weights.iter()) {
+            let dx = p.x.saturating_sub(e.cx).abs().to_bits() as i64;
+            let dy = p.y.saturating_sub(e.cy).abs().to_bits() as i64;
+            // Weights sum to 2^24 and distances are below 2^32: no overflow.
+            sum += w as i64 * (dx + dy);
+            total += w as i64;
+        }
+        let distance = Q16::saturate(sum / total.max(1));
+        let half = Q16::saturate((e.hx.to_bits() as i64 + e.hy.to_bits() as i64) / 2);
+        distance.saturating_div(half.max(Q16::ONE))
+    }
+
     /// The particle of largest weight (the last of equal ones).
     fn best_particle(&self) -> Particle {
         let (mut best, mut best_weight) = (Particle::default(), 0u32);
@@ -186,5 +207,112 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
             }
         }
         best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::particle::Bounds;
+    use super::super::{Config, Status, Tracker, Variant};
+    use super::*;
+    use crate::image::{Gray8, Luma64};
+
+    /// A bright 20 px square on a dark 64x48 frame, and the ellipse on it.
+    fn square() -> ([u8; 64 * 48], Ellipse) {
+        let mut buf = [40u8; 64 * 48];
+        for y in 14..34 {
+            buf[y * 64 + 22..y * 64 + 42].fill(220);
+        }
+        let e = Ellipse::new(
+            Q16::from_f64(31.5),
+            Q16::from_f64(23.5),
+            Q16::from_int(10),
+            Q16::from_int(10),
+        );
+        (buf, e)
+    }
+
+    /// The spread by its definition, in f64: weighted mean `|dx| + |dy|` over the mean
+    /// half-axis.
+    fn spread_f64(particles: &[Particle], weights: &[u32], e: &Ellipse) -> f64 {
+        let total: f64 = weights.iter().map(|&w| w as f64).sum();
+        let distance: f64 = particles
+            .iter()
+            .zip(weights)
+            .map(|(p, &w)| {
+                let d = (p.x.to_f64() - e.cx.to_f64()).abs() + (p.y.to_f64() - e.cy.to_f64()).abs();
+                w as f64 * d
+            })
+            .sum::<f64>()
+            / total;
+        distance / ((e.hx.to_f64() + e.hy.to_f64()) / 2.0)
+    }
+
+    #[test]
+    fn the_confidence_is_the_coefficient_less_the_spread_penalty() {
+        let (buf, init) = square();
+        let frame = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
+        for variant in [Variant::ColourPf, Variant::Rbpf] {
+            let config = Config::new(variant);
+            let mut t = Tracker::<Luma64, 50, 64>::new(config, &frame, init).unwrap();
+            let bounds = Bounds::for_frame(64, 48, config.min_half_axis);
+            t.propagate(&bounds);
+            t.weigh(&frame);
+            let location = t.locate();
+            let want = spread_f64(&t.state.particles, &t.state.weights, &location.ellipse);
+            let got = t.spread(&location.ellipse).to_f64();
+            assert!(
+                (got - want).abs() < 1e-3,
+                "{variant:?}: {got} against {want}"
+            );
+            assert!(want > 0.01, "the particles moved: {want}");
+            let rho = t.compare(&frame, &location.ellipse).rho;
+            let e = t.read_out(&frame);
+            let penalty = config.spread_penalty.to_f64() * want;
+            assert!(
+                (e.confidence.to_f64() - (rho.to_f64() - penalty)).abs() < 1e-3,
+                "{variant:?}: {e:?}, rho {rho}, penalty {penalty}"
+            );
+        }
+    }
+
+    #[test]
+    fn scattered_particles_are_not_tracking_on_a_matching_window() {
+        let (buf, init) = square();
+        let frame = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
+        for penalty in [Q16::ZERO, Config::new(Variant::ColourPf).spread_penalty] {
+            let mut config = Config::new(Variant::ColourPf);
+            config.spread_penalty = penalty;
+            let mut t = Tracker::<Luma64, 50, 64>::new(config, &frame, init).unwrap();
+            // Half the particles on the square, half spread over the frame's corners: their
+            // weighted mean is still near the square.
+            for (i, p) in t.state.particles.iter_mut().enumerate() {
+                if i % 2 == 1 {
+                    let corner = [(2, 2), (61, 2), (2, 45), (61, 45)][i / 2 % 4];
+                    p.x = Q16::from_int(corner.0);
+                    p.y = Q16::from_int(corner.1);
+                }
+            }
+            let e = t.read_out(&frame);
+            if penalty == Q16::ZERO {
+                assert_eq!(e.status, Status::Tracking, "{e:?}");
+            } else {
+                assert_eq!(e.status, Status::Lost, "{e:?}");
+                assert!(t.spread(&e.ellipse) > Q16::from_int(2));
+            }
+        }
+    }
+
+    #[test]
+    fn the_spread_saturates_on_extreme_positions() {
+        let (buf, init) = square();
+        let frame = ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap();
+        let mut t =
+            Tracker::<Luma64, 4, 64>::new(Config::new(Variant::Rbpf), &frame, init).unwrap();
+        t.state.particles[0].x = Q16::MAX;
+        t.state.particles[1].y = Q16::MIN;
+        let tiny = Ellipse::new(Q16::MIN, Q16::MAX, Q16::ZERO, Q16::ZERO);
+        assert_eq!(t.spread(&tiny), Q16::MAX);
+        assert!(t.spread(&init) > Q16::ONE);
     }
 }

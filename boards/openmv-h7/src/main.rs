@@ -21,7 +21,7 @@
 //!   pan/tilt head's commands ([`rbtrack::pantilt`]) as servo pulses on P7 (pan, PD12,
 //!   TIM4 channel 1) and P8 (tilt, PD13, TIM4 channel 2), 50 Hz, 1,500 us at 0 degrees and
 //!   100/9 us per degree (a hobby servo's 500-2,500 us for 180 degrees); the head holds
-//!   still while the status is not `Tracking`. [`FOV_X`] and [`FOV_Y`] must be the lens's
+//!   still while the status is `Lost`. [`FOV_X`] and [`FOV_Y`] must be the lens's
 //!   field of view: the values here are placeholders to measure.
 
 #![no_std]
