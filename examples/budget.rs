@@ -28,7 +28,7 @@ mod budget {
     use rbtrack::image::Rgb8x8x8;
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::{CycleCounter, StageCycles};
-    use rbtrack::tracker::{CameraMotion, Config, Tracker, Variant};
+    use rbtrack::tracker::{CameraMotion, Config, Status, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
     use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
     use rbtrack_firmware::scene::{self, FRAMES};
@@ -254,12 +254,14 @@ mod budget {
             (2 * full.hy.to_bits()) >> 16
         );
 
-        // The controller, on the last estimate moved a little every step.
+        // The controller, on the last estimate moved a little every step and tracked (a `Lost`
+        // one would only hold the head).
         let fov = (Q16::from_int(60), Q16::from_int(45));
         let Ok(mut head) = PanTilt::new(PanTiltConfig::new(320, 240, fov.0, fov.1)) else {
             panic!("pan/tilt configuration");
         };
         let mut estimate = t100.estimate();
+        estimate.status = Status::Tracking;
         const STEPS: u32 = 1000;
         let start = counter.now();
         for k in 0..STEPS {
