@@ -326,6 +326,7 @@ pub struct ConfigSpec {
     pub readout: Option<ReadoutSpec>,
     pub adapt_rate: Option<Q>,
     pub adapt_above: Option<Q>,
+    pub spread_penalty: Option<Q>,
     pub uncertain_below: Option<Q>,
     pub lost_below: Option<Q>,
     pub redetect_share: Option<Q>,
@@ -394,6 +395,7 @@ impl ConfigSpec {
         }
         set(&mut c.adapt_rate, self.adapt_rate);
         set(&mut c.adapt_above, self.adapt_above);
+        set(&mut c.spread_penalty, self.spread_penalty);
         set(&mut c.uncertain_below, self.uncertain_below);
         set(&mut c.lost_below, self.lost_below);
         set(&mut c.redetect_share, self.redetect_share);
