@@ -19,8 +19,8 @@
 //!   | grep -E '^[0-9a-f]+ <|bl.*<core::panicking' | grep -B1 'core::panicking'
 //! ```
 //!
-//! Reached for every pixel format (`Gray8`, `Rgb565Le`, `Rgb565Be`, `Rgb888`, `Yuyv`,
-//! `Uyvy`), on frames made by `ImageView::new` and `ImageView::from_words` from a buffer,
+//! Reached for every pixel format (`Gray8`, `Rgb565Le`, `Rgb565Be`, `Rgb888`, `Bgr888`,
+//! `Yuyv`, `Uyvy`), on frames made by `ImageView::new` and `ImageView::from_words` from a buffer,
 //! width, height and stride the optimiser cannot see (through [`core::hint::black_box`]),
 //! for every binning (`Tracker<Rgb8x8x8, 100, 512>`, `Tracker<Rgb8x8x4, 200, 256>`,
 //! `Tracker<Yuv8x8x4, 1, 256>`, `Tracker<Luma64, 8, 64>`), with a `Config` and initial
@@ -48,8 +48,8 @@ mod proof {
     use cortex_m_rt::entry;
     use rbtrack::fixed::Q16;
     use rbtrack::image::{
-        Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4,
-        Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
+        Bgr888, Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888,
+        Rgb8x8x4, Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
     };
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::CycleCounter;
@@ -150,6 +150,7 @@ mod proof {
         exercise::<Bn, N, B, Rgb565Le>(tracker);
         exercise::<Bn, N, B, Rgb565Be>(tracker);
         exercise::<Bn, N, B, Rgb888>(tracker);
+        exercise::<Bn, N, B, Bgr888>(tracker);
         exercise::<Bn, N, B, Yuyv>(tracker);
         exercise::<Bn, N, B, Uyvy>(tracker);
     }

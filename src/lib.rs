@@ -124,7 +124,7 @@ mod error;
 pub use error::Error;
 pub use fixed::Q16;
 pub use image::{
-    Binning, Gray8, ImageError, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888,
+    Bgr888, Binning, Gray8, ImageError, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888,
     Rgb8x8x4, Rgb8x8x8, Uyvy, Yuv8x8x4, Yuyv,
 };
 pub use rect::Rect;

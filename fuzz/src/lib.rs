@@ -86,6 +86,8 @@ pub enum Format {
     Rgb565Be,
     /// `Rgb888`.
     Rgb888,
+    /// `Bgr888`.
+    Bgr888,
     /// `Yuyv`.
     Yuyv,
     /// `Uyvy`.
@@ -97,7 +99,7 @@ impl Format {
     pub fn bytes_per_pixel(self) -> usize {
         match self {
             Format::Gray8 => 1,
-            Format::Rgb888 => 3,
+            Format::Rgb888 | Format::Bgr888 => 3,
             _ => 2,
         }
     }
@@ -122,6 +124,10 @@ macro_rules! with_format {
             }
             $crate::Format::Rgb888 => {
                 type $p = rbtrack::image::Rgb888;
+                $body
+            }
+            $crate::Format::Bgr888 => {
+                type $p = rbtrack::image::Bgr888;
                 $body
             }
             $crate::Format::Yuyv => {

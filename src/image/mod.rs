@@ -18,6 +18,7 @@
 //! | [`Rgb565Le`] | 2 | `u16` little-endian, `RRRRRGGG GGGBBBBB` |
 //! | [`Rgb565Be`] | 2 | `u16` big-endian, same bits |
 //! | [`Rgb888`] | 3 | R, G, B |
+//! | [`Bgr888`] | 3 | B, G, R (OpenCV's order) |
 //! | [`Yuyv`] (= [`Yuv422`]) | 2 | `Y0 U Y1 V` per pixel pair (width and stride even) |
 //! | [`Uyvy`] | 2 | `U Y0 V Y1` per pixel pair (width and stride even) |
 //!
@@ -71,7 +72,9 @@ pub use bins::{
     Luma64, Rgb8x8x4, Rgb8x8x8, Yuv8x8x4,
 };
 pub(crate) use pixel::Run;
-pub use pixel::{Gray8, PixelFormat, Rgb565, Rgb565Be, Rgb565Le, Rgb888, Uyvy, Yuv422, Yuyv};
+pub use pixel::{
+    Bgr888, Gray8, PixelFormat, Rgb565, Rgb565Be, Rgb565Le, Rgb888, Uyvy, Yuv422, Yuyv,
+};
 
 /// Largest accepted width or height, px (so that coordinates fit Q16.16 with room to spare).
 pub const MAX_SIDE: usize = 16_383;

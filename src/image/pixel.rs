@@ -134,6 +134,11 @@ pub type Rgb565Be = Rgb565<true>;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rgb888;
 
+/// 24-bit RGB, bytes in the order B, G, R (OpenCV's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Bgr888;
+
 /// YUV 4:2:2: each pair of pixels in four bytes, sharing U and V, as `Y0 U Y1 V` (YUYV)
 /// or, when `CHROMA_FIRST`, `U Y0 V Y1` (UYVY); sensors deliver either. Use the aliases
 /// [`Yuyv`] and [`Uyvy`]; `Yuv422` alone is YUYV.
@@ -158,6 +163,11 @@ impl<const BIG_ENDIAN: bool> PixelFormat for Rgb565<BIG_ENDIAN> {
 }
 
 impl PixelFormat for Rgb888 {
+    const BYTES_PER_PIXEL: usize = 3;
+    const PAIRED: bool = false;
+}
+
+impl PixelFormat for Bgr888 {
     const BYTES_PER_PIXEL: usize = 3;
     const PAIRED: bool = false;
 }
@@ -221,28 +231,75 @@ impl<const BIG_ENDIAN: bool> Read for Rgb565<BIG_ENDIAN> {
     }
 }
 
+/// `(r, g, b)` of a 24-bit pixel's bytes: R, G, B, or B, G, R when `BGR`.
+#[inline(always)]
+const fn rgb_of<const BGR: bool>([a, g, c]: [u8; 3]) -> (u8, u8, u8) {
+    if BGR {
+        (c, g, a)
+    } else {
+        (a, g, c)
+    }
+}
+
+/// [`Read::luma_at_byte`] of a 24-bit format ([`rgb_of`]).
+#[inline(always)]
+fn luma_24<const BGR: bool>(bytes: &[u8], index: usize) -> u8 {
+    match (
+        bytes.get(index),
+        bytes.get(index.wrapping_add(1)),
+        bytes.get(index.wrapping_add(2)),
+    ) {
+        (Some(&a), Some(&g), Some(&c)) => {
+            let (r, g, b) = rgb_of::<BGR>([a, g, c]);
+            luma_of_rgb(r, g, b)
+        }
+        _ => 0,
+    }
+}
+
+/// A 24-bit pixel's bin ([`rgb_of`]).
+#[inline(always)]
+fn bin_24<Bn: Binning, const BGR: bool>(px: [u8; 3]) -> u16 {
+    let (r, g, b) = rgb_of::<BGR>(px);
+    Bn::from_rgb888(r, g, b)
+}
+
+/// [`Read::bin_at`] of a 24-bit format.
+#[inline(always)]
+fn bin_at_24<Bn: Binning, const BGR: bool>(row: &[u8], x: usize) -> u16 {
+    match row.get(3 * x..3 * x + 3) {
+        Some(&[a, g, c]) => bin_24::<Bn, BGR>([a, g, c]),
+        _ => 0,
+    }
+}
+
 impl Read for Rgb888 {
     #[inline(always)]
     fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
-        match (
-            bytes.get(index),
-            bytes.get(index.wrapping_add(1)),
-            bytes.get(index.wrapping_add(2)),
-        ) {
-            (Some(&r), Some(&g), Some(&b)) => luma_of_rgb(r, g, b),
-            _ => 0,
-        }
+        luma_24::<false>(bytes, index)
     }
     #[inline(always)]
     fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
-        match row.get(3 * x..3 * x + 3) {
-            Some(&[r, g, b]) => Bn::from_rgb888(r, g, b),
-            _ => 0,
-        }
+        bin_at_24::<Bn, false>(row, x)
     }
     #[inline(always)]
     fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
-        bins_of_run::<3>(row, run, |&[r, g, b]| Bn::from_rgb888(r, g, b), f)
+        bins_of_run::<3>(row, run, |&px| bin_24::<Bn, false>(px), f)
+    }
+}
+
+impl Read for Bgr888 {
+    #[inline(always)]
+    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+        luma_24::<true>(bytes, index)
+    }
+    #[inline(always)]
+    fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
+        bin_at_24::<Bn, true>(row, x)
+    }
+    #[inline(always)]
+    fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
+        bins_of_run::<3>(row, run, |&px| bin_24::<Bn, true>(px), f)
     }
 }
 
@@ -277,6 +334,24 @@ mod tests {
     use super::*;
     use crate::image::{ImageView, Rgb8x8x8};
 
+    /// BGR bytes read as the RGB pixel they hold: the same luma and bins.
+    #[test]
+    fn bgr_reads_as_the_reversed_rgb() {
+        let rgb = [200u8, 30, 90, 10, 250, 120];
+        let bgr = [90u8, 30, 200, 120, 250, 10];
+        let (a, b) = (
+            ImageView::<Rgb888>::new(&rgb, 2, 1, 2).unwrap(),
+            ImageView::<Bgr888>::new(&bgr, 2, 1, 2).unwrap(),
+        );
+        for x in 0..2 {
+            assert_eq!(a.luma(x, 0), b.luma(x, 0));
+            assert_eq!(
+                a.row(0).bin::<Rgb8x8x8>(x as usize),
+                b.row(0).bin::<Rgb8x8x8>(x as usize)
+            );
+        }
+    }
+
     /// Runs of bins equal the bins one by one, every format, every step, at and past the
     /// row's end.
     #[test]
@@ -309,6 +384,7 @@ mod tests {
         check::<Rgb565Le>(2);
         check::<Rgb565Be>(2);
         check::<Rgb888>(3);
+        check::<Bgr888>(3);
         check::<Yuyv>(2);
         check::<Uyvy>(2);
     }
