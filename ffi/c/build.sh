@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Builds (and runs) the C examples against the C library, librbtrack_ffi.a (docs/c.md):
+#
+#   ffi/c/build.sh host       # target/c/track: tracks a raw RGB888 sequence (system cc)
+#   ffi/c/build.sh firmware   # target/c/firmware.elf (arm-none-eabi-gcc), run in QEMU's
+#                             # mps2-an386: prints the example firmware's checksum
+#   ffi/c/build.sh proof      # links every C function of the thumbv7em library with its
+#                             # panic handler, which cannot link: fails if a panic is reachable
+#
+# The firmware and the proof need arm-none-eabi-gcc (Debian: gcc-arm-none-eabi) and the
+# thumbv7em-none-eabihf Rust target; the firmware runs in qemu-system-arm.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+mkdir -p target/c
+
+target=thumbv7em-none-eabihf
+arm_flags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
+arm_lib="target/$target/release/librbtrack_ffi.a"
+
+case "${1:-}" in
+host)
+  cargo build -q --release -p rbtrack-ffi
+  # The host library links Rust's std for its panic runtime: these are the system
+  # libraries `cargo rustc -- --print native-static-libs` names for it.
+  cc -std=c11 -O2 -Wall -Wextra -Werror -Iffi/include ffi/c/host/track.c \
+    target/release/librbtrack_ffi.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o target/c/track
+  echo "target/c/track"
+  ;;
+firmware)
+  cargo build -q --release -p rbtrack-ffi --target "$target"
+  arm-none-eabi-gcc "${arm_flags[@]}" -std=c11 -O2 -Wall -Wextra -Werror -ffunction-sections \
+    -fdata-sections -nostdlib -Iffi/include -T ffi/c/firmware/link.ld -Wl,--gc-sections,-z,noexecstack \
+    ffi/c/firmware/startup.c ffi/c/firmware/main.c "$arm_lib" -lgcc -o target/c/firmware.elf
+  arm-none-eabi-size -A target/c/firmware.elf | awk '$1 ~ /^\.(vectors|text|rodata|data|bss|ARM\.exidx)$/'
+  timeout 600 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic \
+    -semihosting-config enable=on,target=native -kernel target/c/firmware.elf
+  ;;
+proof)
+  cargo build -q --release -p rbtrack-ffi --target "$target"
+  mapfile -t functions < <(arm-none-eabi-nm -g --defined-only "$arm_lib" 2>/dev/null |
+    awk '$2 == "T" && $3 ~ /^rbt_/ { print $3 }' | sort -u)
+  [ "${#functions[@]}" -gt 0 ] || { echo "no rbt_ functions in $arm_lib"; exit 1; }
+  # Every C function is a root of the link; a panic reachable from any of them keeps the
+  # panic handler, whose call to rbtrack_panic_path_is_reachable (defined nowhere) fails it.
+  arm-none-eabi-gcc "${arm_flags[@]}" -nostdlib -Wl,--gc-sections -Wl,-e,rbt_step \
+    "${functions[@]/#/-Wl,-u,}" "$arm_lib" -lgcc -o target/c/no_panic.elf
+  echo "no panic reachable from the ${#functions[@]} C functions: ${functions[*]}"
+  ;;
+*)
+  echo "usage: ffi/c/build.sh host|firmware|proof" >&2
+  exit 2
+  ;;
+esac
