@@ -7,6 +7,8 @@
     python3 benches/compare_opencv.py DATA_DIR --seeds 1,2,3 --per-sequence --rbtrack PATH
     python3 benches/compare_opencv.py --seeds 1,2,3 --starts spatial --peers CSRT \
         --zero-based-sequences ball1_vot15
+    pip install ./python    # once, for --in-process: rbtrack's Python module
+    python3 benches/compare_opencv.py --in-process --zero-based-sequences ball1_vot15
 
 Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.legacy`,
 default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
@@ -45,6 +47,12 @@ The protocol, one for every tracker and the same as `rbtrack eval`'s:
   time inside `Tracker::step`), reading excluded, averaged over the frames after the first;
   OpenCV runs on one thread (`cv2.setNumThreads(1)`, `--threads` to change) like rbtrack.
 - A tracker that reports failure for a frame keeps its last box.
+
+With `--in-process`, rbtrack runs in this process through its Python module
+(`rbtrack.Tracker`, `pip install ./python`) on the same BGR frames as OpenCV's trackers, from
+the same first boxes: its boxes are those of `rbtrack track` on the dump
+(python/tests/test_tracker.py checks it), scored by the metrics below from their exact
+values, and its ms/frame is the time of `Tracker.update` as for OpenCV's trackers.
 
 rbtrack's scores come from its JSON; the script recomputes them from its `--boxes` output
 (two decimals) with the metrics below and warns if they differ by more than 0.002 (a check
@@ -271,6 +279,22 @@ def run_rbtrack(binary, seq, dump, layout, zero_based, tracker, seed, start, arg
     return result, boxes
 
 
+def run_rbtrack_in_process(frames, init, tracker, seed, particles):
+    """0-based boxes and mean ms per frame (after the first) of rbtrack's Python module over
+    BGR frames from the 0-based box `init`."""
+    import rbtrack
+
+    t = rbtrack.Tracker(variant=tracker, particles=particles, seed=seed)
+    t.init(frames[0], init)
+    boxes, times = [t.box], []
+    for frame in frames[1:]:
+        t0 = time.perf_counter()
+        t.update(frame)
+        times.append(time.perf_counter() - t0)
+        boxes.append(t.box)
+    return boxes, 1000.0 * statistics.fmean(times) if times else 0.0
+
+
 def find_rbtrack(arg):
     if arg:
         return Path(arg)
@@ -310,6 +334,8 @@ def main():
     parser.add_argument("--threads", type=int, default=1, help="OpenCV threads (default 1)")
     parser.add_argument("--per-sequence", action="store_true", help="also print every sequence")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
+    parser.add_argument("--in-process", action="store_true",
+                        help="run rbtrack through its Python module (pip install ./python)")
     args = parser.parse_args()
 
     data = Path(args.data)
@@ -320,7 +346,12 @@ def main():
     missing = zero_named - {seq.name for seq in sequences(data)}
     if missing:
         sys.exit(f"compare_opencv.py: --zero-based-sequences: no sequence {sorted(missing)} in {data}")
-    binary = find_rbtrack(args.rbtrack)
+    binary = find_rbtrack(args.rbtrack)  # `rbtrack frames` decodes for every tracker
+    if args.in_process:
+        try:
+            import rbtrack  # noqa: F401
+        except ImportError:
+            sys.exit("compare_opencv.py: --in-process needs rbtrack's Python module: pip install ./python")
     cv2.setNumThreads(args.threads)
 
     makers = {name: opencv_tracker(name) for name in ("CSRT", "KCF", "MIL", "MOSSE")}
@@ -347,6 +378,14 @@ def main():
                 for start in starts:
                     per_start = []
                     for seed in seeds:
+                        if args.in_process:
+                            init = to_zero_based(start_box(first, start), zero_based)
+                            boxes, ms = run_rbtrack_in_process(
+                                frames, init, tracker, seed, args.particles
+                            )
+                            auc, prec = scores(truth, boxes)
+                            per_start.append((auc, prec, ms))
+                            continue
                         result, boxes = run_rbtrack(
                             binary, seq, dump, layout, zero_based, tracker, seed, start, args
                         )
@@ -392,13 +431,15 @@ def main():
                           "zero_based": args.zero_based,
                           "zero_based_sequences": sorted(zero_named),
                           "opencv": cv2.__version__, "threads": args.threads,
+                          "rbtrack_in_process": args.in_process,
                           "sequences": {n: rows[n] for n in names},
                           "mean": {n: dict(zip(("auc", "prec20", "ms_per_frame"), mean[n]))
                                    for n in names}}, indent=1))
         return
     print(
         f"{data}: {len(rows['rbtrack-rbpf'])} sequences; OpenCV {cv2.__version__} on {args.threads} "
-        f"thread(s); rbtrack N = {args.particles}, seeds {args.seeds} (mean); "
+        f"thread(s); rbtrack {'in process (Python module)' if args.in_process else 'by rbtrack track'}; "
+        f"rbtrack N = {args.particles}, seeds {args.seeds} (mean); "
         f"{len(starts)} start(s) per tracker (mean); boxes "
         f"{'0-based' if args.zero_based else '1-based'}"
         f"{' except ' + ', '.join(sorted(zero_named)) if zero_named else ''}; "
