@@ -28,10 +28,13 @@ host)
   ;;
 firmware)
   cargo build -q --release -p rbtrack-ffi --target "$target"
-  arm-none-eabi-gcc "${arm_flags[@]}" -std=c11 -O2 -Wall -Wextra -Werror -ffunction-sections \
+  arm-none-eabi-gcc "${arm_flags[@]}" -std=c11 -O2 -Wall -Wextra -Werror -ffreestanding -ffunction-sections \
     -fdata-sections -nostdlib -Iffi/include -T ffi/c/firmware/link.ld -Wl,--gc-sections,-z,noexecstack \
     ffi/c/firmware/startup.c ffi/c/firmware/main.c "$arm_lib" -lgcc -o target/c/firmware.elf
-  arm-none-eabi-size -A target/c/firmware.elf | awk '$1 ~ /^\.(vectors|text|rodata|data|bss|ARM\.exidx)$/'
+  arm-none-eabi-size -A target/c/firmware.elf | awk '
+    $1 ~ /^\.(vectors|text|rodata|ARM\.exidx|data)$/ { flash += $2 }
+    $1 ~ /^\.(data|bss)$/ { ram += $2 }
+    END { printf "target/c/firmware.elf: %d B of flash, %d B of RAM in .data and .bss\n", flash, ram }'
   timeout 600 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic \
     -semihosting-config enable=on,target=native -kernel target/c/firmware.elf
   ;;

@@ -12,6 +12,7 @@
 
 #include "rbtrack.h"
 #include "semihosting.h"
+#include "startup.h"
 
 enum {
     WIDTH = 320,
@@ -211,6 +212,13 @@ int main(void) {
         }
         print_hex(variants[v] == RBT_VARIANT_RBPF ? "rbpf: checksum " : "pf: checksum ", own);
     }
+    char digits[12] = {0};
+    char *at = digits + sizeof digits - 1;
+    uint32_t stack = stack_used();
+    do *--at = (char)('0' + stack % 10); while ((stack /= 10) > 0);
+    semihosting_write("stack high-water mark: ");
+    semihosting_write(at);
+    semihosting_write(" bytes\n");
     print_hex("checksum ", checksum);
     return 0;
 }
