@@ -5,8 +5,8 @@
 //! from the fault's start until the status is first `Lost`, and the frames from the
 //! fault's end until the estimate is back on the man (IoU >= 0.5 with the ground truth),
 //! prints them (`cargo test -p rbtrack-host --test real_faults -- --nocapture`, the
-//! README's table) and asserts them. The runs are deterministic: the bounds are today's
-//! figures, so that a change that makes one worse fails; "never" bounds nothing.
+//! table in docs/guarantees.md) and asserts them. The runs are deterministic: the bounds
+//! are today's figures, so that a change that makes one worse fails; "never" bounds nothing.
 
 use rbtrack::tracker::{Status, Variant};
 use rbtrack_host::metrics::BBox;
@@ -162,7 +162,7 @@ fn faults_on_real_frames() {
     }
 }
 
-/// The README's figures for a fault and tracker: frames until `Lost` and until back on
+/// docs/guarantees.md's figures for a fault and tracker: frames until `Lost` and until back on
 /// the target, as upper bounds (`None`: never, which bounds nothing).
 fn bounds(case: (Fault, Variant)) -> (Option<usize>, Option<usize>) {
     match case {
