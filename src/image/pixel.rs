@@ -273,35 +273,28 @@ fn bin_at_24<Bn: Binning, const BGR: bool>(row: &[u8], x: usize) -> u16 {
     }
 }
 
-impl Read for Rgb888 {
-    #[inline(always)]
-    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
-        luma_24::<false>(bytes, index)
-    }
-    #[inline(always)]
-    fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
-        bin_at_24::<Bn, false>(row, x)
-    }
-    #[inline(always)]
-    fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
-        bins_of_run::<3>(row, run, |&px| bin_24::<Bn, false>(px), f)
-    }
+/// [`Read`] for a 24-bit format of byte order `BGR` ([`rgb_of`]).
+macro_rules! read_24 {
+    ($format:ty, $bgr:literal) => {
+        impl Read for $format {
+            #[inline(always)]
+            fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
+                luma_24::<$bgr>(bytes, index)
+            }
+            #[inline(always)]
+            fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
+                bin_at_24::<Bn, $bgr>(row, x)
+            }
+            #[inline(always)]
+            fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
+                bins_of_run::<3>(row, run, |&px| bin_24::<Bn, $bgr>(px), f)
+            }
+        }
+    };
 }
 
-impl Read for Bgr888 {
-    #[inline(always)]
-    fn luma_at_byte(bytes: &[u8], index: usize) -> u8 {
-        luma_24::<true>(bytes, index)
-    }
-    #[inline(always)]
-    fn bin_at<Bn: Binning>(row: &[u8], x: usize) -> u16 {
-        bin_at_24::<Bn, true>(row, x)
-    }
-    #[inline(always)]
-    fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
-        bins_of_run::<3>(row, run, |&px| bin_24::<Bn, true>(px), f)
-    }
-}
+read_24!(Rgb888, false);
+read_24!(Bgr888, true);
 
 impl<const CHROMA_FIRST: bool> Read for Yuv422<CHROMA_FIRST> {
     #[inline(always)]
