@@ -3,7 +3,8 @@
 #
 #   ffi/c/build.sh host       # target/c/track: tracks a raw RGB888 sequence (system cc)
 #   ffi/c/build.sh firmware   # target/c/firmware.elf (arm-none-eabi-gcc), run in QEMU's
-#                             # mps2-an386: prints the example firmware's checksum
+#                             # mps2-an386: prints the example firmware's checksum (the
+#                             # library with RGB565 alone; FFI_FEATURES=default: all formats)
 #   ffi/c/build.sh proof      # links every C function of the thumbv7em library with its
 #                             # panic handler, which cannot link: fails if a panic is reachable
 #
@@ -27,7 +28,10 @@ host)
   echo "target/c/track"
   ;;
 firmware)
-  cargo build -q --release -p rbtrack-ffi --target "$target"
+  # The scene is RGB565 little-endian: the library is built with that pixel format alone,
+  # as a firmware builds it for its camera (FFI_FEATURES=default: all seven formats).
+  cargo build -q --release -p rbtrack-ffi --target "$target" --no-default-features \
+    --features "${FFI_FEATURES:-rgb565le}"
   arm-none-eabi-gcc "${arm_flags[@]}" -std=c11 -O2 -Wall -Wextra -Werror -ffreestanding -ffunction-sections \
     -fdata-sections -nostdlib -Iffi/include -T ffi/c/firmware/link.ld -Wl,--gc-sections,-z,noexecstack \
     ffi/c/firmware/startup.c ffi/c/firmware/main.c "$arm_lib" -lgcc -o target/c/firmware.elf
@@ -39,7 +43,7 @@ firmware)
     -semihosting-config enable=on,target=native -kernel target/c/firmware.elf
   ;;
 proof)
-  cargo build -q --release -p rbtrack-ffi --target "$target"
+  cargo build -q --release -p rbtrack-ffi --target "$target" # every pixel format
   mapfile -t functions < <(arm-none-eabi-nm -g --defined-only "$arm_lib" 2>/dev/null |
     awk '$2 == "T" && $3 ~ /^rbt_/ { print $3 }' | sort -u)
   [ "${#functions[@]}" -gt 0 ] || { echo "no rbt_ functions in $arm_lib"; exit 1; }

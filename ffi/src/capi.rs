@@ -45,7 +45,8 @@ pub enum rbt_error {
     RBT_ERR_NOT_A_TRACKER = 4,
     /// The controller was not started by `rbt_pantilt_start`.
     RBT_ERR_NOT_A_PANTILT = 5,
-    /// The image's pixel format is not an `rbt_format`.
+    /// The image's pixel format is not an `rbt_format`, or not one this library was built
+    /// with (its Cargo features).
     RBT_ERR_FORMAT = 6,
     /// The image's width or height is 0.
     RBT_ERR_IMAGE_EMPTY = 7,
@@ -126,7 +127,7 @@ impl rbt_error {
             RBT_ERR_MEMORY_ALIGN => c"RBT_ERR_MEMORY_ALIGN: tracker memory misaligned",
             RBT_ERR_NOT_A_TRACKER => c"RBT_ERR_NOT_A_TRACKER: not a placed tracker",
             RBT_ERR_NOT_A_PANTILT => c"RBT_ERR_NOT_A_PANTILT: not a started pan/tilt controller",
-            RBT_ERR_FORMAT => c"RBT_ERR_FORMAT: unknown pixel format",
+            RBT_ERR_FORMAT => c"RBT_ERR_FORMAT: pixel format unknown or not built in",
             RBT_ERR_IMAGE_EMPTY => c"RBT_ERR_IMAGE_EMPTY: image width or height is zero",
             RBT_ERR_IMAGE_TOO_LARGE => {
                 c"RBT_ERR_IMAGE_TOO_LARGE: image width or height is above 16383 px"

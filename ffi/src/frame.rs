@@ -1,57 +1,67 @@
 //! Frames of any pixel format chosen at run time: [`Format`] by number, [`Frame`] the
 //! core's checked [`ImageView`] of that format.
 
-use rbtrack::image::{
-    Bgr888, Gray8, ImageError, ImageView, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Uyvy, Yuyv,
-};
+use rbtrack::image::{self, ImageError, ImageView};
 
-/// A pixel format by number, as the C header (`rbt_format`) and the Python module name it.
+#[cfg(not(any(
+    feature = "gray8",
+    feature = "rgb565le",
+    feature = "rgb565be",
+    feature = "rgb888",
+    feature = "bgr888",
+    feature = "yuyv",
+    feature = "uyvy"
+)))]
+compile_error!("rbtrack-ffi needs at least one pixel format feature (gray8, rgb565le, ...)");
+
+/// A pixel format by number, as the C header (`rbt_format`) and the Python module name it;
+/// each is a Cargo feature of this crate (all on by default), so that a firmware links the
+/// tracker for the formats its camera delivers alone.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
-    /// [`Gray8`]: 1 byte per pixel.
+    /// [`image::Gray8`]: 1 byte per pixel.
+    #[cfg(feature = "gray8")]
     Gray8,
-    /// [`Rgb565Le`]: 2 bytes per pixel.
+    /// [`image::Rgb565Le`]: 2 bytes per pixel.
+    #[cfg(feature = "rgb565le")]
     Rgb565Le,
-    /// [`Rgb565Be`]: 2 bytes per pixel.
+    /// [`image::Rgb565Be`]: 2 bytes per pixel.
+    #[cfg(feature = "rgb565be")]
     Rgb565Be,
-    /// [`Rgb888`]: 3 bytes per pixel, R, G, B.
+    /// [`image::Rgb888`]: 3 bytes per pixel, R, G, B.
+    #[cfg(feature = "rgb888")]
     Rgb888,
-    /// [`Bgr888`]: 3 bytes per pixel, B, G, R.
+    /// [`image::Bgr888`]: 3 bytes per pixel, B, G, R.
+    #[cfg(feature = "bgr888")]
     Bgr888,
-    /// [`Yuyv`]: 2 bytes per pixel, width and stride even.
+    /// [`image::Yuyv`]: 2 bytes per pixel, width and stride even.
+    #[cfg(feature = "yuyv")]
     Yuyv,
-    /// [`Uyvy`]: 2 bytes per pixel, width and stride even.
+    /// [`image::Uyvy`]: 2 bytes per pixel, width and stride even.
+    #[cfg(feature = "uyvy")]
     Uyvy,
 }
 
 impl Format {
-    /// Every format, in the order of their numbers `1..=7`.
-    pub const ALL: [Format; 7] = [
-        Format::Gray8,
-        Format::Rgb565Le,
-        Format::Rgb565Be,
-        Format::Rgb888,
-        Format::Bgr888,
-        Format::Yuyv,
-        Format::Uyvy,
-    ];
-
-    /// The format numbered `code` (`1..=7`, the C header's `RBT_FORMAT_*`), if any.
+    /// The format numbered `code` (the C header's `RBT_FORMAT_*`, `1..=7`), if this build
+    /// has it (its Cargo feature: all by default).
     pub fn from_code(code: u32) -> Option<Self> {
-        let index = usize::try_from(code).ok()?.checked_sub(1)?;
-        Self::ALL.get(index).copied()
-    }
-
-    /// Bytes per pixel.
-    pub fn bytes_per_pixel(self) -> usize {
-        match self {
-            Format::Gray8 => Gray8::BYTES_PER_PIXEL,
-            Format::Rgb565Le => Rgb565Le::BYTES_PER_PIXEL,
-            Format::Rgb565Be => Rgb565Be::BYTES_PER_PIXEL,
-            Format::Rgb888 => Rgb888::BYTES_PER_PIXEL,
-            Format::Bgr888 => Bgr888::BYTES_PER_PIXEL,
-            Format::Yuyv => Yuyv::BYTES_PER_PIXEL,
-            Format::Uyvy => Uyvy::BYTES_PER_PIXEL,
+        match code {
+            #[cfg(feature = "gray8")]
+            1 => Some(Format::Gray8),
+            #[cfg(feature = "rgb565le")]
+            2 => Some(Format::Rgb565Le),
+            #[cfg(feature = "rgb565be")]
+            3 => Some(Format::Rgb565Be),
+            #[cfg(feature = "rgb888")]
+            4 => Some(Format::Rgb888),
+            #[cfg(feature = "bgr888")]
+            5 => Some(Format::Bgr888),
+            #[cfg(feature = "yuyv")]
+            6 => Some(Format::Yuyv),
+            #[cfg(feature = "uyvy")]
+            7 => Some(Format::Uyvy),
+            _ => None,
         }
     }
 }
@@ -60,31 +70,45 @@ impl Format {
 #[derive(Clone, Copy, Debug)]
 pub enum Frame<'a> {
     /// [`Format::Gray8`].
-    Gray8(ImageView<'a, Gray8>),
+    #[cfg(feature = "gray8")]
+    Gray8(ImageView<'a, image::Gray8>),
     /// [`Format::Rgb565Le`].
-    Rgb565Le(ImageView<'a, Rgb565Le>),
+    #[cfg(feature = "rgb565le")]
+    Rgb565Le(ImageView<'a, image::Rgb565Le>),
     /// [`Format::Rgb565Be`].
-    Rgb565Be(ImageView<'a, Rgb565Be>),
+    #[cfg(feature = "rgb565be")]
+    Rgb565Be(ImageView<'a, image::Rgb565Be>),
     /// [`Format::Rgb888`].
-    Rgb888(ImageView<'a, Rgb888>),
+    #[cfg(feature = "rgb888")]
+    Rgb888(ImageView<'a, image::Rgb888>),
     /// [`Format::Bgr888`].
-    Bgr888(ImageView<'a, Bgr888>),
+    #[cfg(feature = "bgr888")]
+    Bgr888(ImageView<'a, image::Bgr888>),
     /// [`Format::Yuyv`].
-    Yuyv(ImageView<'a, Yuyv>),
+    #[cfg(feature = "yuyv")]
+    Yuyv(ImageView<'a, image::Yuyv>),
     /// [`Format::Uyvy`].
-    Uyvy(ImageView<'a, Uyvy>),
+    #[cfg(feature = "uyvy")]
+    Uyvy(ImageView<'a, image::Uyvy>),
 }
 
 /// Evaluates `$body` with `$view` bound to the [`ImageView`] inside the [`Frame`] `$frame`.
 macro_rules! with_view {
     ($frame:expr, $view:ident => $body:expr) => {
         match $frame {
+            #[cfg(feature = "gray8")]
             $crate::Frame::Gray8($view) => $body,
+            #[cfg(feature = "rgb565le")]
             $crate::Frame::Rgb565Le($view) => $body,
+            #[cfg(feature = "rgb565be")]
             $crate::Frame::Rgb565Be($view) => $body,
+            #[cfg(feature = "rgb888")]
             $crate::Frame::Rgb888($view) => $body,
+            #[cfg(feature = "bgr888")]
             $crate::Frame::Bgr888($view) => $body,
+            #[cfg(feature = "yuyv")]
             $crate::Frame::Yuyv($view) => $body,
+            #[cfg(feature = "uyvy")]
             $crate::Frame::Uyvy($view) => $body,
         }
     };
@@ -105,12 +129,19 @@ impl<'a> Frame<'a> {
         stride: usize,
     ) -> Result<Self, ImageError> {
         Ok(match format {
+            #[cfg(feature = "gray8")]
             Format::Gray8 => Frame::Gray8(ImageView::new(bytes, width, height, stride)?),
+            #[cfg(feature = "rgb565le")]
             Format::Rgb565Le => Frame::Rgb565Le(ImageView::new(bytes, width, height, stride)?),
+            #[cfg(feature = "rgb565be")]
             Format::Rgb565Be => Frame::Rgb565Be(ImageView::new(bytes, width, height, stride)?),
+            #[cfg(feature = "rgb888")]
             Format::Rgb888 => Frame::Rgb888(ImageView::new(bytes, width, height, stride)?),
+            #[cfg(feature = "bgr888")]
             Format::Bgr888 => Frame::Bgr888(ImageView::new(bytes, width, height, stride)?),
+            #[cfg(feature = "yuyv")]
             Format::Yuyv => Frame::Yuyv(ImageView::new(bytes, width, height, stride)?),
+            #[cfg(feature = "uyvy")]
             Format::Uyvy => Frame::Uyvy(ImageView::new(bytes, width, height, stride)?),
         })
     }
