@@ -39,8 +39,9 @@ firmware)
     $1 ~ /^\.(vectors|text|rodata|ARM\.exidx|data)$/ { flash += $2 }
     $1 ~ /^\.(data|bss)$/ { ram += $2 }
     END { printf "target/c/firmware.elf: %d B of flash, %d B of RAM in .data and .bss\n", flash, ram }'
+  # SYS_WRITE0 goes to QEMU's stderr: the firmware's output on stdout with the rest.
   timeout 600 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic \
-    -semihosting-config enable=on,target=native -kernel target/c/firmware.elf
+    -semihosting-config enable=on,target=native -kernel target/c/firmware.elf 2>&1
   ;;
 proof)
   cargo build -q --release -p rbtrack-ffi --target "$target" # every pixel format
