@@ -104,7 +104,8 @@ typedef enum {
   RBT_ERR_NOT_A_TRACKER = 4,
   // The controller was not started by `rbt_pantilt_start`.
   RBT_ERR_NOT_A_PANTILT = 5,
-  // The image's pixel format is not an `rbt_format`.
+  // The image's pixel format is not an `rbt_format`, or not one this library was built
+  // with (its Cargo features).
   RBT_ERR_FORMAT = 6,
   // The image's width or height is 0.
   RBT_ERR_IMAGE_EMPTY = 7,
