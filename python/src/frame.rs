@@ -109,7 +109,7 @@ impl<'a> Pixels<'a> {
         let rows_apart = usize::try_from(row)
             .ok()
             .filter(|&r| r % channels == 0 && r >= width * channels);
-        let bytes = match rows_apart {
+        let (bytes, stride) = match rows_apart {
             Some(row) if unit(1, channels as isize) && unit(2, 1) && height > 0 && width > 0 => {
                 let len = (height - 1) * row + width * channels;
                 // SAFETY: the array's elements are `u8` in one buffer that starts at
@@ -118,21 +118,15 @@ impl<'a> Pixels<'a> {
                 // buffer alive and borrowed read-only (NumPy's borrow flag) for `'a`.
                 #[allow(unsafe_code)]
                 let bytes = unsafe { std::slice::from_raw_parts(view.as_ptr(), len) };
-                return Ok(Self {
-                    bytes: Cow::Borrowed(bytes),
-                    width,
-                    height,
-                    stride: row / channels,
-                    format: order.format(),
-                });
+                (Cow::Borrowed(bytes), row / channels)
             }
-            _ => view.iter().copied().collect::<Vec<u8>>(),
+            _ => (Cow::Owned(view.iter().copied().collect()), width),
         };
         Ok(Self {
-            bytes: Cow::Owned(bytes),
+            bytes,
             width,
             height,
-            stride: width,
+            stride,
             format: order.format(),
         })
     }
