@@ -2,6 +2,7 @@
 //! the `rbtrack` command-line program.
 
 pub mod camera;
+pub mod cf64;
 pub mod cli;
 pub mod config_fields;
 pub mod draw;

@@ -1,0 +1,199 @@
+//! The frame as the f64 tracker reads it: RGB888 pixels, and image patches resampled from
+//! it to a fixed size in px.
+
+/// A borrowed RGB888 frame, rows back to back.
+#[derive(Clone, Copy, Debug)]
+pub struct RgbImage<'a> {
+    /// Width, px.
+    pub width: usize,
+    /// Height, px.
+    pub height: usize,
+    /// `width * height * 3` bytes, R, G, B per pixel.
+    pub rgb: &'a [u8],
+}
+
+/// An image patch in f64: `width x height` px of R, G, B in `[0, 255]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Patch {
+    /// Width, px.
+    pub width: usize,
+    /// Height, px.
+    pub height: usize,
+    /// R, G, B per pixel, rows back to back.
+    pub rgb: Vec<[f64; 3]>,
+}
+
+impl Patch {
+    /// The pixel at column `x`, row `y`.
+    pub fn at(&self, x: usize, y: usize) -> [f64; 3] {
+        self.rgb[y * self.width + x]
+    }
+
+    /// Every `step`-th pixel of every `step`-th row (the top-left of each `step x step`
+    /// block): the patch at `1 / step` of its resolution.
+    pub fn every(&self, step: usize) -> Patch {
+        if step <= 1 {
+            return self.clone();
+        }
+        let (width, height) = (self.width.div_ceil(step), self.height.div_ceil(step));
+        let rgb = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .map(|(x, y)| self.at(x * step, y * step))
+            .collect();
+        Patch { width, height, rgb }
+    }
+
+    /// Luma `0.299 R + 0.587 G + 0.114 B` per pixel, in `[0, 255]`.
+    pub fn grey(&self) -> Vec<f64> {
+        self.rgb
+            .iter()
+            .map(|p| 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2])
+            .collect()
+    }
+}
+
+impl RgbImage<'_> {
+    fn pixel(&self, x: usize, y: usize) -> [f64; 3] {
+        let i = (y * self.width + x) * 3;
+        [
+            f64::from(self.rgb[i]),
+            f64::from(self.rgb[i + 1]),
+            f64::from(self.rgb[i + 2]),
+        ]
+    }
+
+    /// The region of `size` px (width, height) centred on `centre` (px, pixel centres at
+    /// integer coordinates) resampled to `out` px (width, height). Along an axis that
+    /// shrinks, each output pixel is the mean of the source pixels whose centres fall in its
+    /// footprint; along one that grows, it is interpolated linearly between the two
+    /// nearest. Pixels outside the frame repeat its nearest edge.
+    pub fn patch(&self, centre: (f64, f64), size: (f64, f64), out: (usize, usize)) -> Patch {
+        let xs = taps(centre.0, size.0, out.0, self.width);
+        let ys = taps(centre.1, size.1, out.1, self.height);
+        let mut rgb = Vec::with_capacity(out.0 * out.1);
+        for ty in &ys {
+            for tx in &xs {
+                let mut sum = [0.0; 3];
+                for &(y, wy) in ty {
+                    for &(x, wx) in tx {
+                        let p = self.pixel(x, y);
+                        for c in 0..3 {
+                            sum[c] += wy * wx * p[c];
+                        }
+                    }
+                }
+                rgb.push(sum);
+            }
+        }
+        Patch {
+            width: out.0,
+            height: out.1,
+            rgb,
+        }
+    }
+}
+
+/// Per output pixel along one axis, the source pixels (clamped into `0..len`) and their
+/// weights, summing to 1: `out` pixels over `size` px centred on `centre`.
+fn taps(centre: f64, size: f64, out: usize, len: usize) -> Vec<Vec<(usize, f64)>> {
+    let clamp = |i: i64| i.clamp(0, len as i64 - 1) as usize;
+    let step = size / out as f64;
+    (0..out)
+        .map(|i| {
+            // The footprint [left, left + step) in px; pixel k covers [k - 0.5, k + 0.5).
+            let left = centre - size / 2.0 + i as f64 * step;
+            if step > 1.0 {
+                let lo = left.ceil() as i64;
+                let hi = ((left + step).ceil() as i64).max(lo + 1);
+                let w = 1.0 / (hi - lo) as f64;
+                (lo..hi).map(|k| (clamp(k), w)).collect()
+            } else {
+                let at = left + step / 2.0;
+                let k = at.floor();
+                let f = at - k;
+                let k = k as i64;
+                vec![(clamp(k), 1.0 - f), (clamp(k + 1), f)]
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(width: usize, height: usize) -> Vec<u8> {
+        (0..height)
+            .flat_map(|y| (0..width).flat_map(move |x| [x as u8, y as u8, 7]))
+            .collect()
+    }
+
+    #[test]
+    fn a_patch_of_the_same_size_copies_the_pixels() {
+        let rgb = ramp(20, 10);
+        let img = RgbImage {
+            width: 20,
+            height: 10,
+            rgb: &rgb,
+        };
+        // 6 x 4 px centred on (8.5, 4.5): columns 6..=11, rows 3..=6.
+        let p = img.patch((8.5, 4.5), (6.0, 4.0), (6, 4));
+        assert_eq!(p.at(0, 0), [6.0, 3.0, 7.0]);
+        assert_eq!(p.at(5, 3), [11.0, 6.0, 7.0]);
+    }
+
+    #[test]
+    fn shrinking_by_two_averages_pairs() {
+        let rgb = ramp(20, 10);
+        let img = RgbImage {
+            width: 20,
+            height: 10,
+            rgb: &rgb,
+        };
+        let p = img.patch((9.5, 4.5), (20.0, 10.0), (10, 5));
+        assert_eq!(p.at(0, 0), [0.5, 0.5, 7.0]);
+        assert_eq!(p.at(9, 4), [18.5, 8.5, 7.0]);
+    }
+
+    #[test]
+    fn outside_the_frame_repeats_the_edge() {
+        let rgb = ramp(20, 10);
+        let img = RgbImage {
+            width: 20,
+            height: 10,
+            rgb: &rgb,
+        };
+        // 4 x 4 px centred on (0.5, 0.5): columns and rows -1..=2.
+        let p = img.patch((0.5, 0.5), (4.0, 4.0), (4, 4));
+        assert_eq!(p.at(0, 0), [0.0, 0.0, 7.0]);
+        assert_eq!(p.at(3, 3), [2.0, 2.0, 7.0]);
+    }
+
+    #[test]
+    fn every_second_pixel_halves_the_patch() {
+        let rgb = ramp(20, 10);
+        let img = RgbImage {
+            width: 20,
+            height: 10,
+            rgb: &rgb,
+        };
+        let p = img.patch((9.5, 4.5), (20.0, 10.0), (20, 10)).every(2);
+        assert_eq!((p.width, p.height), (10, 5));
+        assert_eq!(p.at(3, 2), [6.0, 4.0, 7.0]);
+    }
+
+    #[test]
+    fn growing_interpolates_linearly() {
+        let rgb = ramp(20, 10);
+        let img = RgbImage {
+            width: 20,
+            height: 10,
+            rgb: &rgb,
+        };
+        // 2 x 2 px centred on (5.5, 5.5) to 4 x 4: output centres at 4.75, 5.25, 5.75, 6.25.
+        let p = img.patch((5.5, 5.5), (2.0, 2.0), (4, 4));
+        assert_eq!(p.at(0, 0), [4.75, 4.75, 7.0]);
+        assert_eq!(p.at(1, 2), [5.25, 5.75, 7.0]);
+        assert_eq!(p.at(3, 3), [6.25, 6.25, 7.0]);
+    }
+}

@@ -1,0 +1,364 @@
+//! Every setting of the f64 correlation-filter tracker in one place, settable by name
+//! (`rbtrack --set cf.grid=16`).
+
+use super::fhog::Hog;
+use serde_json::Value;
+
+/// The tracker's settings. [`Params::default`] is the configuration the measurements in
+/// docs/accuracy.md chose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Cells a side of the search region's square grid.
+    pub grid: usize,
+    /// Cell side, px of the resampled region.
+    pub cell: usize,
+    /// Context around the target: the search region is the target plus `padding` times
+    /// the mean of its width and height, each way.
+    pub padding: f64,
+    /// fHOG channels of the translation filter.
+    pub hog: Hog,
+    /// A grey channel (the cell's mean) beside them.
+    pub grey: bool,
+    /// Width of the desired response: this share of the target's `sqrt(w h)`, in cells.
+    pub sigma: f64,
+    /// Regulariser of the translation filter.
+    pub lambda: f64,
+    /// Learning rate of the translation filter.
+    pub cf_rate: f64,
+    /// Bits per colour channel of the colour histograms (3: 8x8x8 bins).
+    pub colour_bits: u32,
+    /// The colour model reads every `colour_step`-th pixel of every `colour_step`-th row
+    /// of the patch.
+    pub colour_step: usize,
+    /// Learning rate of the colour histograms.
+    pub colour_rate: f64,
+    /// The object's histogram is taken this share of the target's mean side inside its box.
+    pub inner_padding: f64,
+    /// Weight of the colour response in the merged response, `0..=1`.
+    pub merge: f64,
+    /// Scales of the scale filter (0: the size stays the first box's).
+    pub scales: usize,
+    /// Ratio between neighbouring scales.
+    pub scale_step: f64,
+    /// Width of the scale filter's desired response, times `sqrt(scales)`, in scales.
+    pub scale_sigma: f64,
+    /// Learning rate of the scale filter.
+    pub scale_rate: f64,
+    /// Largest area of the scale filter's samples, px^2.
+    pub scale_area: f64,
+    /// fHOG cell of the scale filter's samples, px.
+    pub scale_cell: usize,
+    /// fHOG channels of the scale filter.
+    pub scale_hog: Hog,
+    /// Regulariser of the scale filter.
+    pub scale_lambda: f64,
+    /// Largest change of size in a frame, in scale steps.
+    pub scale_limit: f64,
+    /// Weigh the scale samples by a Hann window over the scales.
+    pub scale_window: bool,
+    /// Read the scale between samples: the top of the parabola through the response's
+    /// peak and its neighbours.
+    pub scale_interpolate: bool,
+    /// Learn only from frames whose confidence is at least this: an occluder or a
+    /// look-alike scores low and is not learnt.
+    pub learn_above: f64,
+    /// While lost, search where the target would be had it kept its velocity.
+    pub coast: bool,
+    /// Below this confidence the target is uncertain.
+    pub uncertain_below: f64,
+    /// Below this confidence it is lost.
+    pub lost_below: f64,
+    /// Regions searched besides the usual one per frame while lost (0: none).
+    pub redetect: usize,
+    /// A region searched while lost takes over when its confidence is at least this...
+    pub redetect_above: f64,
+    /// ...and its colour response there at least this.
+    pub redetect_colour: f64,
+    /// Particles reading the merged response (0: its peak is the estimate).
+    pub particles: usize,
+    /// Their position noise, a share of the target's mean side, px.
+    pub particle_noise: f64,
+    /// Share of them moved to the merged response's peak each frame before weighing.
+    pub particle_peak_share: f64,
+    /// Sharpness of their weights, merged-response units.
+    pub particle_tau: f64,
+    /// Learn on a new patch and new scale samples at the new position and size (true, as
+    /// Staple), or on the frame's detection patch and samples with the desired responses
+    /// peaked where the target was found in them (false: half the feature work).
+    pub fresh_patch: bool,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            grid: 32,
+            cell: 4,
+            padding: 1.0,
+            hog: Hog::Fhog27,
+            grey: true,
+            sigma: 1.0 / 16.0,
+            lambda: 1e-3,
+            cf_rate: 0.01,
+            colour_bits: 5,
+            colour_step: 1,
+            colour_rate: 0.04,
+            inner_padding: 0.2,
+            merge: 0.3,
+            scales: 33,
+            scale_step: 1.02,
+            scale_sigma: 0.25,
+            scale_rate: 0.025,
+            scale_area: 512.0,
+            scale_cell: 4,
+            scale_hog: Hog::Fhog31,
+            scale_lambda: 1e-3,
+            scale_limit: 16.0,
+            scale_window: true,
+            scale_interpolate: false,
+            learn_above: 0.2,
+            coast: false,
+            uncertain_below: 0.3,
+            lost_below: 0.2,
+            redetect: 0,
+            redetect_above: 0.3,
+            redetect_colour: 0.5,
+            particles: 0,
+            particle_noise: 0.1,
+            particle_peak_share: 0.25,
+            particle_tau: 0.05,
+            fresh_patch: true,
+        }
+    }
+}
+
+/// A setting's type: parsed from text and shown as JSON.
+trait ParamValue: Sized {
+    fn parse(text: &str) -> Result<Self, String>;
+    fn json(&self) -> Value;
+}
+
+impl ParamValue for f64 {
+    fn parse(text: &str) -> Result<Self, String> {
+        text.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("expected a number, got {text:?}"))
+    }
+    fn json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+impl ParamValue for usize {
+    fn parse(text: &str) -> Result<Self, String> {
+        text.parse()
+            .map_err(|_| format!("expected a whole number, got {text:?}"))
+    }
+    fn json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+impl ParamValue for u32 {
+    fn parse(text: &str) -> Result<Self, String> {
+        text.parse()
+            .map_err(|_| format!("expected a whole number, got {text:?}"))
+    }
+    fn json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+impl ParamValue for bool {
+    fn parse(text: &str) -> Result<Self, String> {
+        text.parse()
+            .map_err(|_| format!("expected true or false, got {text:?}"))
+    }
+    fn json(&self) -> Value {
+        Value::from(*self)
+    }
+}
+
+impl ParamValue for Hog {
+    fn parse(text: &str) -> Result<Self, String> {
+        Hog::parse(text)
+    }
+    fn json(&self) -> Value {
+        Value::from(self.name())
+    }
+}
+
+/// One setting of [`Params`]: its name and how to set and read it.
+pub struct Field {
+    /// The field's name in `Params`.
+    pub name: &'static str,
+    set: fn(&mut Params, &str) -> Result<(), String>,
+    get: fn(&Params) -> Value,
+}
+
+impl Field {
+    /// The field called `name`.
+    pub fn named(name: &str) -> Option<&'static Field> {
+        FIELDS.iter().find(|f| f.name == name)
+    }
+
+    /// Sets this field of `params` from `text`; the error names the field.
+    pub fn set(&self, params: &mut Params, text: &str) -> Result<(), String> {
+        (self.set)(params, text.trim()).map_err(|e| format!("`cf.{}`: {e}", self.name))
+    }
+
+    /// This field of `params` in its JSON form.
+    pub fn get(&self, params: &Params) -> Value {
+        (self.get)(params)
+    }
+}
+
+impl std::fmt::Debug for Field {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "cf.{}", self.name)
+    }
+}
+
+macro_rules! fields {
+    { $($name:ident,)* } => {
+        /// Every field of [`Params`], in declaration order.
+        pub static FIELDS: &[Field] = &[$(
+            Field {
+                name: stringify!($name),
+                set: |params, text| {
+                    params.$name = ParamValue::parse(text)?;
+                    Ok(())
+                },
+                get: |params| params.$name.json(),
+            },
+        )*];
+    };
+}
+
+fields! {
+    grid,
+    cell,
+    padding,
+    hog,
+    grey,
+    sigma,
+    lambda,
+    cf_rate,
+    colour_bits,
+    colour_step,
+    colour_rate,
+    inner_padding,
+    merge,
+    scales,
+    scale_step,
+    scale_sigma,
+    scale_rate,
+    scale_area,
+    scale_cell,
+    scale_hog,
+    scale_lambda,
+    scale_limit,
+    scale_window,
+    scale_interpolate,
+    learn_above,
+    coast,
+    uncertain_below,
+    lost_below,
+    redetect,
+    redetect_above,
+    redetect_colour,
+    particles,
+    particle_noise,
+    particle_peak_share,
+    particle_tau,
+    fresh_patch,
+}
+
+impl Params {
+    /// Checks every setting; the error names the first one out of its range.
+    pub fn validate(&self) -> Result<(), String> {
+        let check = |ok: bool, name: &str, range: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(format!("`cf.{name}` must be {range}"))
+            }
+        };
+        let rate = |v: f64| (0.0..=1.0).contains(&v);
+        check((4..=256).contains(&self.grid), "grid", "in 4..=256")?;
+        check((1..=16).contains(&self.cell), "cell", "in 1..=16")?;
+        check(self.padding > 0.0, "padding", "above 0")?;
+        check(self.hog != Hog::Off || self.grey, "hog", "on, or grey true")?;
+        check(self.sigma > 0.0, "sigma", "above 0")?;
+        check(self.lambda > 0.0, "lambda", "above 0")?;
+        check(rate(self.cf_rate), "cf_rate", "in 0..=1")?;
+        check(
+            (1..=8).contains(&self.colour_bits),
+            "colour_bits",
+            "in 1..=8",
+        )?;
+        check(
+            (1..=8).contains(&self.colour_step),
+            "colour_step",
+            "in 1..=8",
+        )?;
+        check(rate(self.colour_rate), "colour_rate", "in 0..=1")?;
+        check(
+            (0.0..1.0).contains(&self.inner_padding),
+            "inner_padding",
+            "in 0..1",
+        )?;
+        check(rate(self.merge), "merge", "in 0..=1")?;
+        check(self.scales <= 129, "scales", "in 0..=129")?;
+        check(self.scale_step > 1.0, "scale_step", "above 1")?;
+        check(self.scale_sigma > 0.0, "scale_sigma", "above 0")?;
+        check(rate(self.scale_rate), "scale_rate", "in 0..=1")?;
+        check(self.scale_area >= 64.0, "scale_area", "at least 64")?;
+        check(
+            (1..=16).contains(&self.scale_cell),
+            "scale_cell",
+            "in 1..=16",
+        )?;
+        check(self.scale_hog != Hog::Off, "scale_hog", "on")?;
+        check(self.scale_lambda > 0.0, "scale_lambda", "above 0")?;
+        check(rate(self.uncertain_below), "uncertain_below", "in 0..=1")?;
+        check(
+            (0.0..=self.uncertain_below).contains(&self.lost_below),
+            "lost_below",
+            "in 0..=uncertain_below",
+        )?;
+        check(self.redetect <= 8, "redetect", "in 0..=8")?;
+        check(self.particles <= 10_000, "particles", "in 0..=10000")?;
+        check(self.particle_noise >= 0.0, "particle_noise", "at least 0")?;
+        check(
+            rate(self.particle_peak_share),
+            "particle_peak_share",
+            "in 0..=1",
+        )?;
+        check(self.particle_tau > 0.0, "particle_tau", "above 0")?;
+        Ok(())
+    }
+
+    /// Every field by name, in JSON form.
+    pub fn to_json(&self) -> Value {
+        Value::Object(
+            FIELDS
+                .iter()
+                .map(|f| (f.name.to_string(), f.get(self)))
+                .collect(),
+        )
+    }
+
+    /// The fields that differ from the defaults, as `cf.FIELD=VALUE`.
+    pub fn changed(&self) -> Vec<String> {
+        let default = Params::default();
+        FIELDS
+            .iter()
+            .filter(|f| f.get(self) != f.get(&default))
+            .map(|f| match f.get(self) {
+                Value::String(s) => format!("cf.{}={s}", f.name),
+                v => format!("cf.{}={v}", f.name),
+            })
+            .collect()
+    }
+}

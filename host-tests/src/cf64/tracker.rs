@@ -1,0 +1,537 @@
+//! The tracker: per frame, where the target moved (the translation filter's response
+//! merged with the colour response over the search region), how big it now is (the scale
+//! filter), how sure that is, and the models' updates.
+
+use super::colour::{ColourModel, Integral, Region};
+use super::fft::C64;
+use super::fhog::{features, Features};
+use super::filter::{cosine_window, Filter};
+use super::image::{Patch, RgbImage};
+use super::params::Params;
+use super::particles::Particles;
+use super::scale::{ScaleFilter, ScaleParams};
+use crate::metrics::BBox;
+use rbtrack::tracker::Status;
+
+/// Smallest target side, px.
+const MIN_SIDE: f64 = 4.0;
+
+/// The tracker's answer for one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Output {
+    /// The target's box, px (0-based).
+    pub bbox: BBox,
+    /// The move since the last frame, px (right, down).
+    pub velocity: (f64, f64),
+    /// How sure the tracker is, `0..=1`: the merged response's peak, the translation
+    /// filter's answer and the colour score there weighed by `merge`.
+    pub confidence: f64,
+    /// Tracking, uncertain or lost, by the confidence.
+    pub status: Status,
+}
+
+/// The f64 correlation-filter tracker.
+#[derive(Clone)]
+pub struct Tracker {
+    params: Params,
+    frame_size: (f64, f64),
+    /// Target centre, px (pixel centres at integer coordinates).
+    centre: (f64, f64),
+    /// Target size, px (width, height).
+    size: (f64, f64),
+    window: Vec<f64>,
+    filter: Filter,
+    colour: ColourModel,
+    scale: Option<ScaleFilter>,
+    /// The first box's size, px, and the bounds of the size factor on it.
+    base: (f64, f64),
+    factor_bounds: (f64, f64),
+    last: Output,
+    /// Frames in a row the target has been lost.
+    lost_frames: usize,
+    /// Where the target was last seen not lost, px.
+    anchor: (f64, f64),
+    /// Running mean of its moves, px a frame.
+    velocity: (f64, f64),
+    /// That velocity when the target was lost.
+    lost_velocity: (f64, f64),
+    /// Particles on the merged response, with `particles`.
+    particles: Option<Particles>,
+}
+
+/// One search of a region: where the target is in it and how well it matches there.
+struct Detection {
+    geometry: Geometry,
+    patch: Patch,
+    /// The region's windowed features, transformed.
+    spectra: Vec<C64>,
+    /// The target's centre, px.
+    found: (f64, f64),
+    /// Its move from the region's centre, patch px.
+    moved: (f64, f64),
+    /// The merged response's peak.
+    peak: f64,
+    /// The colour response there.
+    colour: f64,
+    /// The merged response over the moves searched, `(2 reach + 1)^2` cells, row-major.
+    merged: Vec<f64>,
+    /// The largest move searched, cells.
+    reach: i64,
+    /// The region's centre, px.
+    centre: (f64, f64),
+}
+
+impl Detection {
+    /// The merged response at `(x, y)` px, bilinear between cells; its least value outside
+    /// the moves searched.
+    fn map_at(&self, x: f64, y: f64, cell: f64) -> f64 {
+        let side = (2 * self.reach + 1) as usize;
+        if side == 1 {
+            return self.merged[0];
+        }
+        let zoom = self.geometry.zoom();
+        let u = (x - self.centre.0) * zoom.0 / cell + self.reach as f64;
+        let v = (y - self.centre.1) * zoom.1 / cell + self.reach as f64;
+        let top = (side - 1) as f64;
+        if !(0.0..=top).contains(&u) || !(0.0..=top).contains(&v) {
+            return self.merged.iter().copied().fold(f64::INFINITY, f64::min);
+        }
+        let (u0, v0) = (
+            u.floor().min(top - 1.0).max(0.0),
+            v.floor().min(top - 1.0).max(0.0),
+        );
+        let (fu, fv) = (u - u0, v - v0);
+        let (i, j) = (u0 as usize, v0 as usize);
+        let at = |a: usize, b: usize| self.merged[b * side + a];
+        (1.0 - fv) * ((1.0 - fu) * at(i, j) + fu * at(i + 1, j))
+            + fv * ((1.0 - fu) * at(i, j + 1) + fu * at(i + 1, j + 1))
+    }
+}
+
+/// Where the search region lies: its size in the frame, px, and how the resampled patch
+/// maps to it.
+#[derive(Clone, Copy, Debug)]
+struct Geometry {
+    /// Region size in the frame, px.
+    region: (f64, f64),
+    /// Patch side, px.
+    side: usize,
+    /// Target size in the patch, px.
+    target: (f64, f64),
+}
+
+impl Geometry {
+    fn new(params: &Params, size: (f64, f64)) -> Self {
+        let pad = params.padding * (size.0 + size.1) / 2.0;
+        let region = (size.0 + pad, size.1 + pad);
+        let side = params.grid * params.cell;
+        let s = side as f64;
+        Self {
+            region,
+            side,
+            target: (size.0 * s / region.0, size.1 * s / region.1),
+        }
+    }
+
+    /// Patch px per frame px, per axis.
+    fn zoom(&self) -> (f64, f64) {
+        let s = self.side as f64;
+        (s / self.region.0, s / self.region.1)
+    }
+
+    /// The target box in the patch, moved by `(dx, dy)` patch px.
+    fn target_at(&self, dx: f64, dy: f64) -> Region {
+        let c = self.side as f64 / 2.0;
+        Region::centred((c + dx, c + dy), self.target)
+    }
+
+    /// The largest move the colour response can see, cells: the target box stays inside
+    /// the patch.
+    fn reach(&self, cell: usize) -> i64 {
+        let s = self.side as f64;
+        let room = ((s - self.target.0) / 2.0).min((s - self.target.1) / 2.0);
+        (room / cell as f64).floor().max(0.0) as i64
+    }
+}
+
+impl Tracker {
+    /// Starts on `frame` with the target in `init` (0-based px); `seed` seeds the
+    /// particles' draws.
+    pub fn new(params: Params, frame: &RgbImage, init: &BBox, seed: u64) -> Result<Self, String> {
+        params.validate()?;
+        if !(init.is_valid() && init.w >= MIN_SIDE && init.h >= MIN_SIDE) {
+            return Err(format!("initial box must be at least {MIN_SIDE} px a side"));
+        }
+        let centre = init.centre();
+        let size = (init.w, init.h);
+        let geometry = Geometry::new(&params, size);
+        let window = cosine_window(params.grid, params.grid);
+        let patch = frame.patch(centre, geometry.region, (geometry.side, geometry.side));
+        let x = features(&patch, params.cell, params.hog, params.grey).windowed(&window);
+        let sigma =
+            (geometry.target.0 * geometry.target.1).sqrt() * params.sigma / params.cell as f64;
+        let filter = Filter::new(&x, sigma, params.lambda);
+        let (object, target) = colour_regions(&params, &geometry, size, (0.0, 0.0));
+        let colour = ColourModel::new(
+            &patch.every(params.colour_step),
+            object,
+            target,
+            params.colour_bits,
+        );
+        let scale = (params.scales > 0)
+            .then(|| ScaleFilter::new(scale_params(&params), frame, centre, size));
+        let frame_size = (frame.width as f64, frame.height as f64);
+        let factor_bounds = (
+            (MIN_SIDE / size.0).max(MIN_SIDE / size.1),
+            (frame_size.0 / size.0).min(frame_size.1 / size.1).max(1.0),
+        );
+        Ok(Self {
+            params,
+            frame_size,
+            centre,
+            size,
+            window,
+            filter,
+            colour,
+            scale,
+            base: size,
+            factor_bounds,
+            last: Output {
+                bbox: *init,
+                velocity: (0.0, 0.0),
+                confidence: 1.0,
+                status: Status::Tracking,
+            },
+            lost_frames: 0,
+            anchor: centre,
+            velocity: (0.0, 0.0),
+            lost_velocity: (0.0, 0.0),
+            particles: (params.particles > 0)
+                .then(|| Particles::new(params.particles, centre, seed)),
+        })
+    }
+
+    /// The last answer (the first box's before any step).
+    pub fn last(&self) -> Output {
+        self.last
+    }
+
+    fn features(&self, patch: &Patch) -> Features {
+        features(patch, self.params.cell, self.params.hog, self.params.grey).windowed(&self.window)
+    }
+
+    /// Searches the region around `centre` for the target at its current size.
+    fn detect(&self, frame: &RgbImage, centre: (f64, f64)) -> Detection {
+        let p = &self.params;
+        let geometry = Geometry::new(p, self.size);
+        let patch = frame.patch(centre, geometry.region, (geometry.side, geometry.side));
+        let spectra = self.filter.spectra(&self.features(&patch));
+        let cf = self.filter.response(&spectra);
+        let k = p.colour_step;
+        let sparse = patch.every(k);
+        let likelihood = Integral::new(
+            &self.colour.likelihood(&sparse),
+            sparse.width,
+            sparse.height,
+        );
+        let g = p.grid;
+        let reach = geometry.reach(p.cell).min(g as i64 / 2 - 1);
+        let cell = p.cell as f64;
+        let cf_at = |dy: i64, dx: i64| {
+            cf[dy.rem_euclid(g as i64) as usize * g + dx.rem_euclid(g as i64) as usize]
+        };
+        let colour_at = |dy: i64, dx: i64| {
+            likelihood.mean(
+                geometry
+                    .target_at(dx as f64 * cell, dy as f64 * cell)
+                    .scaled(k),
+            )
+        };
+        let side = (2 * reach + 1) as usize;
+        let mut merged = vec![0.0; side * side];
+        for dy in -reach..=reach {
+            for dx in -reach..=reach {
+                merged[(dy + reach) as usize * side + (dx + reach) as usize] =
+                    (1.0 - p.merge) * cf_at(dy, dx) + p.merge * colour_at(dy, dx);
+            }
+        }
+        let best = (0..merged.len())
+            .max_by(|&a, &b| merged[a].total_cmp(&merged[b]))
+            .unwrap_or(0);
+        let (by, bx) = (best / side, best % side);
+        let fx = parabola_peak(bx, side, |x| merged[by * side + x]);
+        let fy = parabola_peak(by, side, |y| merged[y * side + bx]);
+        let (dy, dx) = (by as i64 - reach, bx as i64 - reach);
+        let zoom = geometry.zoom();
+        let found = (
+            (centre.0 + (dx as f64 + fx) * cell / zoom.0).clamp(0.0, self.frame_size.0 - 1.0),
+            (centre.1 + (dy as f64 + fy) * cell / zoom.1).clamp(0.0, self.frame_size.1 - 1.0),
+        );
+        Detection {
+            moved: ((found.0 - centre.0) * zoom.0, (found.1 - centre.1) * zoom.1),
+            found,
+            peak: merged[best],
+            colour: colour_at(dy, dx),
+            geometry,
+            patch,
+            spectra,
+            merged,
+            reach,
+            centre,
+        }
+    }
+
+    /// Tracks one frame.
+    pub fn step(&mut self, frame: &RgbImage) -> Output {
+        let p = self.params;
+        let previous = self.centre;
+        let lost = self.last.status == Status::Lost;
+        if lost && p.coast {
+            // Where the target would be had it kept its velocity since it was lost.
+            self.anchor = (
+                (self.anchor.0 + self.lost_velocity.0).clamp(0.0, self.frame_size.0 - 1.0),
+                (self.anchor.1 + self.lost_velocity.1).clamp(0.0, self.frame_size.1 - 1.0),
+            );
+        }
+        let predicted = match lost && p.coast {
+            true => self.anchor,
+            false => self.centre,
+        };
+        let predicted = match &mut self.particles {
+            Some(particles) => {
+                let sigma = p.particle_noise * (self.size.0 + self.size.1) / 2.0;
+                particles.predict(sigma)
+            }
+            None => predicted,
+        };
+        let predicted = (
+            predicted.0.clamp(0.0, self.frame_size.0 - 1.0),
+            predicted.1.clamp(0.0, self.frame_size.1 - 1.0),
+        );
+        let mut found = self.detect(frame, predicted);
+        if lost {
+            found = self.redetect(frame, found);
+        }
+        self.centre = found.found;
+        if let Some(particles) = &mut self.particles {
+            let cell = p.cell as f64;
+            let sigma = p.particle_noise * (self.size.0 + self.size.1) / 2.0;
+            particles.propose(found.found, previous, p.particle_peak_share, sigma);
+            let mean = particles.weigh(|x, y| found.map_at(x, y, cell), p.particle_tau);
+            self.centre = (
+                mean.0.clamp(0.0, self.frame_size.0 - 1.0),
+                mean.1.clamp(0.0, self.frame_size.1 - 1.0),
+            );
+            let zoom = found.geometry.zoom();
+            found.moved = (
+                (self.centre.0 - found.centre.0) * zoom.0,
+                (self.centre.1 - found.centre.1) * zoom.1,
+            );
+        }
+        let peak = found.peak;
+        let confidence = peak.clamp(0.0, 1.0);
+        let status = match confidence {
+            c if c < p.lost_below => Status::Lost,
+            c if c < p.uncertain_below => Status::Uncertain,
+            _ => Status::Tracking,
+        };
+        if status == Status::Lost {
+            if self.lost_frames == 0 {
+                self.lost_velocity = self.velocity;
+            }
+            self.lost_frames += 1;
+        } else {
+            self.lost_frames = 0;
+            self.anchor = self.centre;
+        }
+
+        let scales = self.scale.as_ref().map(|scale| {
+            let z = scale.sample(frame, self.centre, self.size);
+            let r = scale.response(&z);
+            let i = (0..r.len())
+                .max_by(|&a, &b| r[a].total_cmp(&r[b]))
+                .unwrap_or(0);
+            let between = match p.scale_interpolate {
+                true => parabola_peak(i, r.len(), |k| r[k]),
+                false => 0.0,
+            };
+            // Factors fall by `scale_step` per sample; a frame changes the size by at most
+            // `scale_limit` of them.
+            let factor = (scale.factors()[i] / p.scale_step.powf(between)).clamp(
+                p.scale_step.powf(-p.scale_limit),
+                p.scale_step.powf(p.scale_limit),
+            );
+            let f = (self.size.0 / self.base.0 * factor)
+                .clamp(self.factor_bounds.0, self.factor_bounds.1);
+            (z, i, f)
+        });
+        let old_size = self.size;
+        if let Some((_, _, f)) = scales {
+            self.size = (self.base.0 * f, self.base.1 * f);
+        }
+
+        let learn = confidence >= p.learn_above;
+        if !learn {
+            // Not sure enough of this frame to learn from it.
+        } else if p.fresh_patch {
+            self.learn_fresh(frame);
+        } else {
+            // The detection patch and samples, the target where it was found in them.
+            let cell = p.cell as f64;
+            let moved = found.moved;
+            self.filter
+                .learn(&found.spectra, (moved.1 / cell, moved.0 / cell), p.cf_rate);
+            let (object, target) = colour_regions(&p, &found.geometry, old_size, moved);
+            self.colour.learn(
+                &found.patch.every(p.colour_step),
+                object,
+                target,
+                p.colour_rate,
+            );
+            if let (Some(scale), Some((z, i, _))) = (&mut self.scale, &scales) {
+                scale.learn(z, *i, p.scale_rate);
+            }
+        }
+        let step = (self.centre.0 - previous.0, self.centre.1 - previous.1);
+        self.velocity = (
+            0.5 * (self.velocity.0 + step.0),
+            0.5 * (self.velocity.1 + step.1),
+        );
+        let bbox = BBox::new(
+            self.centre.0 - (self.size.0 - 1.0) / 2.0,
+            self.centre.1 - (self.size.1 - 1.0) / 2.0,
+            self.size.0,
+            self.size.1,
+        );
+        self.last = Output {
+            bbox,
+            velocity: (self.centre.0 - previous.0, self.centre.1 - previous.1),
+            confidence,
+            status,
+        };
+        self.last
+    }
+
+    /// While lost: `redetect` more regions around where the target was last seen, the
+    /// next ones of a ring of 8 each frame, each half a region away; the best of them
+    /// replaces `found` if its peak and colour score clear their thresholds and its peak
+    /// beats `found`'s.
+    fn redetect(&self, frame: &RgbImage, found: Detection) -> Detection {
+        const RING: [(f64, f64); 8] = [
+            (1.0, 0.0),
+            (-1.0, 0.0),
+            (0.0, 1.0),
+            (0.0, -1.0),
+            (1.0, 1.0),
+            (-1.0, -1.0),
+            (1.0, -1.0),
+            (-1.0, 1.0),
+        ];
+        let p = &self.params;
+        let region = Geometry::new(p, self.size).region;
+        let mut best = found;
+        for k in 0..p.redetect {
+            let (ox, oy) = RING[(self.lost_frames * p.redetect + k) % RING.len()];
+            let centre = (
+                (self.anchor.0 + ox * region.0 / 2.0).clamp(0.0, self.frame_size.0 - 1.0),
+                (self.anchor.1 + oy * region.1 / 2.0).clamp(0.0, self.frame_size.1 - 1.0),
+            );
+            let candidate = self.detect(frame, centre);
+            if candidate.peak >= p.redetect_above
+                && candidate.colour >= p.redetect_colour
+                && candidate.peak > best.peak
+            {
+                best = candidate;
+            }
+        }
+        best
+    }
+
+    /// Learns the target on a new patch and new samples where it now is.
+    fn learn_fresh(&mut self, frame: &RgbImage) {
+        let p = self.params;
+        let geometry = Geometry::new(&p, self.size);
+        let patch = frame.patch(self.centre, geometry.region, (geometry.side, geometry.side));
+        let x = self.filter.spectra(&self.features(&patch));
+        self.filter.learn(&x, (0.0, 0.0), p.cf_rate);
+        let (object, target) = colour_regions(&p, &geometry, self.size, (0.0, 0.0));
+        self.colour
+            .learn(&patch.every(p.colour_step), object, target, p.colour_rate);
+        if let Some(scale) = &mut self.scale {
+            let x = scale.sample(frame, self.centre, self.size);
+            scale.learn(&x, scale.middle(), p.scale_rate);
+        }
+    }
+
+    /// Moves the target with the picture: zoomed by `zoom` about `about` (px), then
+    /// shifted by `shift` (px, right and down).
+    pub fn camera_moved(&mut self, shift: (f64, f64), zoom: f64, about: (f64, f64)) {
+        let moved = |c: f64, a: f64, d: f64| a + zoom * (c - a) + d;
+        self.centre = (
+            moved(self.centre.0, about.0, shift.0).clamp(0.0, self.frame_size.0 - 1.0),
+            moved(self.centre.1, about.1, shift.1).clamp(0.0, self.frame_size.1 - 1.0),
+        );
+        self.anchor = (
+            moved(self.anchor.0, about.0, shift.0).clamp(0.0, self.frame_size.0 - 1.0),
+            moved(self.anchor.1, about.1, shift.1).clamp(0.0, self.frame_size.1 - 1.0),
+        );
+        if let Some(particles) = &mut self.particles {
+            particles.shift(|x, y| (moved(x, about.0, shift.0), moved(y, about.1, shift.1)));
+        }
+        let f =
+            (self.size.0 / self.base.0 * zoom).clamp(self.factor_bounds.0, self.factor_bounds.1);
+        self.size = (self.base.0 * f, self.base.1 * f);
+    }
+}
+
+/// The object's and the target's boxes in the patch, for a target of `size` px moved by
+/// `moved` patch px from the patch's centre.
+fn colour_regions(
+    params: &Params,
+    geometry: &Geometry,
+    size: (f64, f64),
+    moved: (f64, f64),
+) -> (Region, Region) {
+    let shrink = params.inner_padding * (size.0 + size.1) / 2.0;
+    let zoom = geometry.zoom();
+    let object = (
+        ((size.0 - shrink) * zoom.0).max(1.0),
+        ((size.1 - shrink) * zoom.1).max(1.0),
+    );
+    let c = geometry.side as f64 / 2.0;
+    (
+        Region::centred((c + moved.0, c + moved.1), object).scaled(params.colour_step),
+        geometry
+            .target_at(moved.0, moved.1)
+            .scaled(params.colour_step),
+    )
+}
+
+/// The offset in `-0.5..=0.5` of the top of the parabola through `value` at `at - 1`, `at`
+/// and `at + 1` (of `0..n`), 0 at an edge or where the three do not curve down.
+fn parabola_peak(at: usize, n: usize, value: impl Fn(usize) -> f64) -> f64 {
+    if at == 0 || at + 1 >= n {
+        return 0.0;
+    }
+    let (l, c, r) = (value(at - 1), value(at), value(at + 1));
+    let curve = l - 2.0 * c + r;
+    if curve < 0.0 {
+        (0.5 * (l - r) / curve).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    }
+}
+
+fn scale_params(params: &Params) -> ScaleParams {
+    ScaleParams {
+        scales: params.scales,
+        step: params.scale_step,
+        sigma: params.scale_sigma,
+        rate: params.scale_rate,
+        area: params.scale_area,
+        cell: params.scale_cell,
+        hog: params.scale_hog,
+        lambda: params.scale_lambda,
+        window: params.scale_window,
+    }
+}
