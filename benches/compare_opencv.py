@@ -12,9 +12,10 @@
 
 Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.legacy`,
 default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
-`cv2.CamShift`) and `rbtrack track` (RBPF and colour PF, over each of `--seeds`) on every
-sequence, and prints one table: success AUC, precision at 20 px and tracking-only
-milliseconds per frame, with rbtrack's time as a ratio to each tracker's, all measured in
+`cv2.CamShift`) and `rbtrack track` (RBPF, colour PF and the f64 correlation-filter
+tracker cf64, over each of `--seeds`; `--rbtrack-trackers` picks them) on every sequence,
+and prints one table: success AUC, precision at 20 px and tracking-only milliseconds per
+frame, with rbtrack's time as a ratio to each tracker's, all measured in
 this run.
 
 The protocol, one for every tracker and the same as `rbtrack eval`'s:
@@ -335,7 +336,10 @@ def main():
     parser.add_argument("--per-sequence", action="store_true", help="also print every sequence")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("--in-process", action="store_true",
-                        help="run rbtrack through its Python module (pip install ./python)")
+                        help="run rbtrack through its Python module (pip install ./python); "
+                             "the cf64 tracker, host only, still runs through the binary")
+    parser.add_argument("--rbtrack-trackers", default="rbpf,pf,cf64",
+                        help="rbtrack's trackers, comma-separated (default rbpf,pf,cf64)")
     args = parser.parse_args()
 
     data = Path(args.data)
@@ -362,7 +366,10 @@ def main():
         sys.exit(f"compare_opencv.py: --peers: no tracker {unknown}; choose from {list(makers)}")
     peers = {name: makers[name] for name in chosen}
     starts = STARTS if args.starts == "spatial" else STARTS[:1]
-    names = ["rbtrack-rbpf", "rbtrack-pf", *peers]
+    ours = [t.strip() for t in args.rbtrack_trackers.split(",") if t.strip()]
+    if not ours or not set(ours) <= {"rbpf", "pf", "cf64"}:
+        sys.exit("compare_opencv.py: --rbtrack-trackers: choose from rbpf, pf, cf64")
+    names = [f"rbtrack-{t}" for t in ours] + list(peers)
     rows = {n: [] for n in names}  # per sequence: (sequence, auc, prec20, ms)
     by_start = {n: {s[0]: [] for s in starts} for n in names}  # per start: AUC per sequence
     for seq in sequences(data):
@@ -372,13 +379,13 @@ def main():
         with tempfile.TemporaryDirectory() as tmp:
             dump = Path(tmp) / f"{seq.name}.rgb"
             layout, frames = decode(binary, seq, dump)
-            for tracker in ("rbpf", "pf"):
+            for tracker in ours:
                 name = f"rbtrack-{tracker}"
                 runs = []
                 for start in starts:
                     per_start = []
                     for seed in seeds:
-                        if args.in_process:
+                        if args.in_process and tracker != "cf64":
                             init = to_zero_based(start_box(first, start), zero_based)
                             boxes, ms = run_rbtrack_in_process(
                                 frames, init, tracker, seed, args.particles
@@ -423,7 +430,8 @@ def main():
         for n in names
     }
     start_means = {n: {k: statistics.fmean(v) for k, v in by_start[n].items() if v} for n in names}
-    rb_ms = mean["rbtrack-rbpf"][2]
+    first = names[0]  # the time ratios are this tracker's time over each one's
+    rb_ms = mean[first][2]
     if args.json:
         print(json.dumps({"data": str(data), "particles": args.particles, "seeds": seeds,
                           "starts": [s[0] for s in starts],
@@ -437,7 +445,7 @@ def main():
                                    for n in names}}, indent=1))
         return
     print(
-        f"{data}: {len(rows['rbtrack-rbpf'])} sequences; OpenCV {cv2.__version__} on {args.threads} "
+        f"{data}: {len(rows[first])} sequences; OpenCV {cv2.__version__} on {args.threads} "
         f"thread(s); rbtrack {'in process (Python module)' if args.in_process else 'by rbtrack track'}; "
         f"rbtrack N = {args.particles}, seeds {args.seeds} (mean); "
         f"{len(starts)} start(s) per tracker (mean); boxes "
@@ -446,7 +454,7 @@ def main():
         f"means over sequences"
     )
     print()
-    print(f"{'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}  rbtrack-rbpf time / this")
+    print(f"{'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}  {first} time / this")
     print("-" * 66)
     for n in names:
         auc, prec, ms = mean[n]
@@ -464,7 +472,7 @@ def main():
     if args.per_sequence:
         print()
         print(f"{'sequence':16} {'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}")
-        for i, (seq, *_rest) in enumerate(rows["rbtrack-rbpf"]):
+        for i, (seq, *_rest) in enumerate(rows[first]):
             for n in names:
                 _, auc, prec, ms = rows[n][i]
                 print(f"{seq:16} {n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}")

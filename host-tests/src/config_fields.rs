@@ -10,6 +10,7 @@
 //! [`FIELDS`] is the one table: a field added to `Config` is one more name in it, and a
 //! unit test fails naming any field of `Config` it lacks.
 
+use crate::cf64;
 use rbtrack::fixed::Q16;
 use rbtrack::resample::Scheme;
 use rbtrack::tracker::{Config, CueMix, Readout, SizeMeasurement, Variant};
@@ -330,27 +331,62 @@ impl FieldValue for Scheme {
 #[derive(Clone, Debug)]
 pub struct Setting {
     /// The field.
-    pub field: &'static Field,
+    pub field: SettingField,
     /// The value as written.
     pub value: String,
+}
+
+/// The field a [`Setting`] sets: one of the core's [`Config`], or, named `cf.FIELD`, one
+/// of the f64 correlation-filter tracker's [`cf64::Params`].
+#[derive(Clone, Copy, Debug)]
+pub enum SettingField {
+    /// A field of [`Config`].
+    Core(&'static Field),
+    /// A field of [`cf64::Params`].
+    Cf(&'static cf64::params::Field),
 }
 
 impl Setting {
     /// The setting of field `name` to `value`; the error names the field.
     pub fn new(name: &str, value: &str) -> Result<Self, String> {
-        let field = Field::named(name.trim()).ok_or_else(|| {
-            let names: Vec<&str> = FIELDS.iter().map(|f| f.name).collect();
-            format!(
-                "unknown configuration field `{}` (fields: {})",
-                name.trim(),
-                names.join(", ")
-            )
-        })?;
-        field.set(&mut Config::new(Variant::Rbpf), value)?;
+        let name = name.trim();
+        let field = match name.strip_prefix("cf.") {
+            Some(cf) => {
+                let field = cf64::params::Field::named(cf).ok_or_else(|| {
+                    let names: Vec<&str> = cf64::params::FIELDS.iter().map(|f| f.name).collect();
+                    format!(
+                        "unknown field `{name}` of the cf64 tracker (fields: cf.{})",
+                        names.join(", cf.")
+                    )
+                })?;
+                field.set(&mut cf64::Params::default(), value)?;
+                SettingField::Cf(field)
+            }
+            None => {
+                let field = Field::named(name).ok_or_else(|| {
+                    let names: Vec<&str> = FIELDS.iter().map(|f| f.name).collect();
+                    format!(
+                        "unknown configuration field `{name}` (fields: {}, and the cf64 \
+                         tracker's cf.FIELD)",
+                        names.join(", ")
+                    )
+                })?;
+                field.set(&mut Config::new(Variant::Rbpf), value)?;
+                SettingField::Core(field)
+            }
+        };
         Ok(Self {
             field,
             value: value.trim().to_string(),
         })
+    }
+
+    /// The core field it sets, if it sets one.
+    fn core(&self) -> Option<&'static Field> {
+        match self.field {
+            SettingField::Core(f) => Some(f),
+            SettingField::Cf(_) => None,
+        }
     }
 }
 
@@ -422,21 +458,39 @@ pub struct Overrides(pub Vec<Setting>, pub Preset);
 impl Overrides {
     /// The last value given for field `name`, parsed.
     pub fn value<T: FieldValue>(&self, name: &str) -> Option<T> {
-        let setting = self.0.iter().rev().find(|s| s.field.name == name)?;
+        let setting = self
+            .0
+            .iter()
+            .rev()
+            .find(|s| s.core().is_some_and(|f| f.name == name))?;
         T::parse(&setting.value).ok()
     }
 
-    /// `Config::new(variant)` with every setting applied, then `variant` and `seed`
+    /// `Config::new(variant)` with every core setting applied, then `variant` and `seed`
     /// imposed, checked by [`Config::validate`].
     pub fn config(&self, variant: Variant, seed: u64) -> Result<Config, String> {
         let mut config = self.1.config(variant);
         for s in &self.0 {
-            s.field.set(&mut config, &s.value)?;
+            if let Some(field) = s.core() {
+                field.set(&mut config, &s.value)?;
+            }
         }
         config.variant = variant;
         config.seed = seed;
         config.validate().map_err(|e| e.to_string())?;
         Ok(config)
+    }
+
+    /// `cf64::Params::default()` with every `cf.` setting applied, checked.
+    pub fn cf_params(&self) -> Result<cf64::Params, String> {
+        let mut params = cf64::Params::default();
+        for s in &self.0 {
+            if let SettingField::Cf(field) = s.field {
+                field.set(&mut params, &s.value)?;
+            }
+        }
+        params.validate()?;
+        Ok(params)
     }
 }
 
@@ -532,7 +586,7 @@ mod tests {
     fn settings_parse_and_errors_name_the_field() {
         let s: Setting = "scale_per_row=0.1".parse().unwrap();
         let mut config = Config::new(Variant::Rbpf);
-        s.field.set(&mut config, &s.value).unwrap();
+        s.core().unwrap().set(&mut config, &s.value).unwrap();
         assert_eq!(config.scale_per_row, Q16::from_f64(0.1));
         for (text, named) in [
             ("no_such_field=1", "`no_such_field`"),
@@ -553,7 +607,7 @@ mod tests {
             ("cue_mix=Average:0.5", CueMix::Average(Q16::HALF)),
         ] {
             let s: Setting = text.parse().unwrap();
-            s.field.set(&mut config, &s.value).unwrap();
+            s.core().unwrap().set(&mut config, &s.value).unwrap();
             assert_eq!(config.cue_mix, mix);
         }
     }

@@ -6,6 +6,7 @@
 //! Particle counts are const generics in the core; [`Options::particles`] picks one of
 //! [`PARTICLE_COUNTS`] at run time. Colour bins: 8x8x8 RGB (512).
 
+use crate::cf64;
 use crate::metrics::BBox;
 use crate::pixels::{Format, Frame};
 use rbtrack::fixed::Q16;
@@ -28,6 +29,8 @@ pub struct Options {
     pub config: Config,
     /// Particles and colour bins.
     pub shape: Shape,
+    /// With settings, the f64 correlation-filter tracker runs instead of the core's.
+    pub cf64: Option<cf64::Params>,
 }
 
 impl Options {
@@ -36,6 +39,7 @@ impl Options {
         Self {
             config: Config::new(variant),
             shape: Shape::default(),
+            cf64: None,
         }
     }
 }
@@ -90,6 +94,8 @@ pub enum RunError {
     Frame(String),
     /// The tracker rejected the configuration or the initial box.
     Config(ConfigError),
+    /// The f64 correlation-filter tracker rejected its settings or the initial box.
+    Cf64(String),
 }
 
 impl fmt::Display for RunError {
@@ -98,6 +104,7 @@ impl fmt::Display for RunError {
             Self::Particles(n) => write!(f, "--particles {n}: choose one of {PARTICLE_COUNTS:?}"),
             Self::Frame(e) => write!(f, "bad frame: {e}"),
             Self::Config(e) => write!(f, "{e}"),
+            Self::Cf64(e) => write!(f, "cf64: {e}"),
         }
     }
 }
@@ -230,8 +237,16 @@ impl<Bn: Binning, const N: usize, const B: usize> Run for Runner<Bn, N, B> {
     }
 }
 
-/// Starts a tracker on the first frame and box `init` (0-based).
+/// Starts a tracker on the first frame and box `init` (0-based): the f64
+/// correlation-filter tracker where `options` give its settings, else the core's.
 pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Run>, RunError> {
+    if let Some(params) = options.cf64 {
+        let tracker = with_rgb(frame, |img| {
+            cf64::Tracker::new(params, img, init, options.config.seed)
+        })
+        .map_err(RunError::Cf64)?;
+        return Ok(Box::new(Cf64Runner { tracker }));
+    }
     fn boxed<Bn: Binning, const N: usize, const B: usize>(
         config: Config,
         frame: &Frame,
@@ -258,6 +273,71 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
         Bins::Rgb8x8x4 => by_count!(Rgb8x8x4, 256),
         Bins::Yuv8x8x4 => by_count!(Yuv8x8x4, 256),
         Bins::Luma64 => by_count!(Luma64, 64),
+    }
+}
+
+/// The f64 correlation-filter tracker behind [`Run`]. Its estimate's ellipse is its box's,
+/// its velocity the last move, its confidence and status [`cf64::Output`]'s.
+struct Cf64Runner {
+    tracker: cf64::Tracker,
+}
+
+/// An RGB888 view of a frame for the f64 tracker, converted where it is in another format.
+fn with_rgb<T>(frame: &Frame, body: impl FnOnce(&cf64::image::RgbImage) -> T) -> T {
+    let owned;
+    let rgb = match frame.format {
+        Format::Rgb888 => &frame.bytes,
+        _ => {
+            owned = frame.to_rgb888();
+            &owned
+        }
+    };
+    body(&cf64::image::RgbImage {
+        width: frame.width as usize,
+        height: frame.height as usize,
+        rgb,
+    })
+}
+
+/// The core's form of an f64 tracker's answer.
+fn cf64_estimate(out: &cf64::Output) -> Estimate {
+    Estimate {
+        ellipse: ellipse_of(&out.bbox),
+        vx: Q16::from_f64(out.velocity.0),
+        vy: Q16::from_f64(out.velocity.1),
+        confidence: Q16::from_f64(out.confidence.clamp(0.0, 1.0)),
+        status: out.status,
+    }
+}
+
+impl Run for Cf64Runner {
+    fn step(&mut self, frame: &Frame) -> Result<Step, RunError> {
+        let (out, elapsed) = with_rgb(frame, |img| {
+            let start = Instant::now();
+            let out = self.tracker.step(img);
+            (out, start.elapsed())
+        });
+        Ok(Step {
+            estimate: cf64_estimate(&out),
+            bbox: out.bbox,
+            elapsed,
+            pixels_visited: 0,
+        })
+    }
+
+    fn camera_moved(&mut self, motion: &CameraMotion) {
+        let about = (motion.centre_x.to_f64(), motion.centre_y.to_f64());
+        let shift = (motion.dx.to_f64(), motion.dy.to_f64());
+        self.tracker
+            .camera_moved(shift, motion.zoom.to_f64().clamp(0.125, 8.0), about);
+    }
+
+    fn estimate(&self) -> Estimate {
+        cf64_estimate(&self.tracker.last())
+    }
+
+    fn scale_per_row(&self) -> Q16 {
+        Q16::ZERO
     }
 }
 

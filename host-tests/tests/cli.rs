@@ -1482,3 +1482,58 @@ fn camera_motion_file_is_applied_and_checked() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The f64 correlation-filter tracker runs in `track` and `eval` under its own name, takes
+/// its settings as `cf.FIELD`, prints them in its JSON with the cost model's estimate, and
+/// refuses a bad one on one line.
+#[test]
+fn cf64_tracker_in_track_and_eval() {
+    let dir = temp_dir("cf64");
+    let seq = dir.join("Tiny");
+    write_sequence(&seq, 4);
+    let s = path(&seq);
+
+    let doc = json(&rbtrack(&[
+        "track",
+        s,
+        "--tracker",
+        "cf64",
+        "--json",
+        "--set",
+        "cf.grid=16",
+    ]));
+    assert_eq!(doc["tracker"], "cf64");
+    assert_eq!(doc["config"]["grid"], 16);
+    assert_eq!(doc["config"]["hog"], "27");
+    assert_eq!(doc["frames"], 6);
+
+    let doc = json(&rbtrack(&[
+        "eval",
+        path(&dir),
+        "--tracker",
+        "all",
+        "--json",
+        "--set",
+        "cf.merge=0.4",
+    ]));
+    let trackers: Vec<&str> = doc["mean"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["tracker"].as_str().unwrap())
+        .collect();
+    assert_eq!(trackers, ["rbpf", "pf", "cf64"]);
+    assert_eq!(doc["config"]["cf64"]["merge"], 0.4);
+    assert!(doc["cf64_cost"]["instructions"].as_u64().unwrap() > 1_000_000);
+
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--tracker", "cf64", "--set", "cf.grid=3"]),
+        "grid out of range",
+        "cf.grid",
+    );
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "cf.no_such=1"]),
+        "unknown cf field",
+        "cf.no_such",
+    );
+}

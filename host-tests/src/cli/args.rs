@@ -194,8 +194,8 @@ pub struct TrackArgs {
     /// or a raw frame dump (with --raw)
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// Tracker: rbpf (Rao-Blackwellised PF) or pf (colour PF) [default: rbpf, or the
-    /// configuration's variant]
+    /// Tracker: rbpf (Rao-Blackwellised PF), pf (colour PF) or cf64 (the f64
+    /// correlation-filter tracker) [default: rbpf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
     pub tracker: Option<TrackerKind>,
     /// Seed of the tracker's random draws [default: 1, or the configuration's seed]
@@ -250,8 +250,12 @@ pub enum TrackerChoice {
     Rbpf,
     /// The colour PF.
     Pf,
-    /// Both, over the same decoded frames.
+    /// Both particle filters, over the same decoded frames.
     Both,
+    /// The f64 correlation-filter tracker.
+    Cf64,
+    /// The three, over the same decoded frames.
+    All,
 }
 
 impl TrackerChoice {
@@ -261,6 +265,8 @@ impl TrackerChoice {
             Self::Rbpf => vec![TrackerKind::Rbpf],
             Self::Pf => vec![TrackerKind::Pf],
             Self::Both => TrackerKind::ALL.to_vec(),
+            Self::Cf64 => vec![TrackerKind::Cf64],
+            Self::All => vec![TrackerKind::Rbpf, TrackerKind::Pf, TrackerKind::Cf64],
         }
     }
 }
@@ -290,7 +296,8 @@ pub struct EvalArgs {
     /// Folder of sequence folders (OTB layout each)
     #[arg(value_name = "DATA_DIR")]
     pub data: PathBuf,
-    /// Trackers: rbpf, pf or both [default: rbpf, or the configuration's variant]
+    /// Trackers: rbpf, pf, both (the particle filters), cf64 (the f64 correlation-filter
+    /// tracker) or all [default: rbpf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
     pub tracker: Option<TrackerChoice>,
     /// Seed of the trackers' random draws [default: 1, or the configuration's seed]

@@ -8,7 +8,7 @@ use crate::draw;
 use crate::pixels::Frame;
 use crate::run::Shape;
 use crate::scene::{Scene, SceneConfig};
-use rbtrack::tracker::Config;
+use rbtrack::tracker::{Config, Variant};
 use std::io::Write;
 
 /// Frames of the demo's image strip.
@@ -28,11 +28,12 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let scene = Scene::new(scene_config).map_err(fail)?;
     let (w, h) = (scene.width(), scene.height());
     let specs = TrackerKind::ALL.map(|tracker| {
-        let mut config = Config::new(tracker.variant());
+        let mut config = Config::new(tracker.variant().unwrap_or(Variant::Rbpf));
         scene.configure(&mut config);
         RunSpec {
             tracker,
             config,
+            cf64: None,
             start: Start::GIVEN,
         }
     });

@@ -8,11 +8,11 @@ use super::report::{
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
-    config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
-    overrides, progress_bar, wrote, Failure, TrackerKind,
+    cf64_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
+    fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::{Camera, VirtualCamera};
-use crate::config_fields::ConfigJson;
+use crate::cf64::cost::Operations;
 use crate::metrics::{BBox, Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
 use crate::pixels::Format;
 use crate::run::{Bins, Shape};
@@ -46,10 +46,20 @@ struct EvalJson<'a> {
     trackers: &'a [TrackerKind],
     /// Per tracker, the configuration of its first seed's runs (the others differ only in
     /// `seed`).
-    config: BTreeMap<&'static str, ConfigJson<'a>>,
+    config: BTreeMap<&'static str, serde_json::Value>,
+    /// The cf64 tracker's operations a frame and the Cortex-M4 instructions they come to
+    /// (`cf64::cost`), when it runs.
+    cf64_cost: Option<Cf64Cost>,
     sequences: &'a [SequenceRow],
     mean: &'a [MeanRow],
     seconds: f64,
+}
+
+/// The cost model's estimate of a cf64 configuration.
+#[derive(Serialize)]
+struct Cf64Cost {
+    operations: Operations,
+    instructions: u64,
 }
 
 /// What every sequence runs with.
@@ -87,10 +97,12 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     for &tracker in &trackers {
         for &seed in &seeds {
             let config = config_for(&overrides, tracker, seed)?;
+            let cf64 = cf64_for(&overrides, tracker)?;
             for &start in starts {
                 specs.push(RunSpec {
                     tracker,
                     config,
+                    cf64,
                     start,
                 });
             }
@@ -188,7 +200,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         let config = specs
             .iter()
             .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
-            .map(|s| (s.tracker.name(), ConfigJson(&s.config)))
+            .map(|s| (s.tracker.name(), settings_json(&s.config, s.cf64.as_ref())))
             .collect();
         let doc = EvalJson {
             data_dir: args.data.display().to_string(),
@@ -202,6 +214,13 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
             zero_based_sequences: &args.zero_based_sequences,
             trackers: &trackers,
             config,
+            cf64_cost: specs.iter().find_map(|s| s.cf64).map(|p| {
+                let operations = Operations::of(&p);
+                Cf64Cost {
+                    operations,
+                    instructions: operations.instructions(),
+                }
+            }),
             sequences: &rows,
             mean: &means,
             seconds,
@@ -293,7 +312,17 @@ fn header(
         .iter()
         .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
     {
-        text += &format!("config {}: {}\n", s.tracker, config_summary(&s.config));
+        text += &format!(
+            "config {}: {}\n",
+            s.tracker,
+            config_summary(&s.config, s.cf64.as_ref())
+        );
+        if let Some(params) = &s.cf64 {
+            text += &format!(
+                "cf64 estimated Cortex-M4 instructions a frame (cf64::cost): {}\n",
+                Operations::of(params).instructions()
+            );
+        }
     }
     text + "\n"
 }

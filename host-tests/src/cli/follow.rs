@@ -3,7 +3,7 @@
 
 use super::args::FollowArgs;
 use super::runs::status_name;
-use super::{config_for, create_dir, emit, fail, overrides, wrote, Failure};
+use super::{cf64_for, config_for, create_dir, emit, fail, overrides, wrote, Failure};
 use crate::draw::{self, Series, GREEN};
 use crate::follow::{self, FollowFrame, FollowSummary, BAND_SHARE, FIELD_OF_VIEW_X, JUMP_SHARE};
 use crate::metrics::BBox;
@@ -37,9 +37,11 @@ struct FollowJson<'a> {
 pub fn follow(args: &FollowArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let overrides = overrides(&args.config)?;
     let mut config = config_for(&overrides, args.tracker, args.seed)?;
+    let cf64 = cf64_for(&overrides, args.tracker)?;
     let options = |config| Options {
         config,
         shape: args.config.shape(),
+        cf64,
     };
     let gif = !args.no_gif;
     let mut pictures = Pictures::default();

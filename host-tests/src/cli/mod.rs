@@ -31,6 +31,7 @@ pub use follow::follow;
 pub use frames::frames;
 pub use track::track;
 
+use crate::cf64;
 use crate::config_fields::Overrides;
 use crate::draw::{self, Rgb};
 use crate::paper;
@@ -82,7 +83,7 @@ pub(crate) fn wrote(out: &mut dyn Write, json: bool, what: &str) -> Result<(), F
     }
 }
 
-/// Which filter a run uses.
+/// Which tracker a run uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum TrackerKind {
@@ -90,25 +91,29 @@ pub enum TrackerKind {
     Rbpf,
     /// The colour particle filter.
     Pf,
+    /// The f64 correlation-filter tracker (Staple class, [`crate::cf64`]).
+    Cf64,
 }
 
 impl TrackerKind {
-    /// Both, in the order tables and plots list them.
+    /// The core's two particle filters, in the order tables and plots list them.
     pub const ALL: [TrackerKind; 2] = [TrackerKind::Rbpf, TrackerKind::Pf];
 
-    /// Command-line name: `rbpf` or `pf`.
+    /// Command-line name: `rbpf`, `pf` or `cf64`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Rbpf => "rbpf",
             Self::Pf => "pf",
+            Self::Cf64 => "cf64",
         }
     }
 
-    /// The core's variant.
-    pub fn variant(self) -> Variant {
+    /// The core's variant, for the particle filters.
+    pub fn variant(self) -> Option<Variant> {
         match self {
-            Self::Rbpf => Variant::Rbpf,
-            Self::Pf => Variant::ColourPf,
+            Self::Rbpf => Some(Variant::Rbpf),
+            Self::Pf => Some(Variant::ColourPf),
+            Self::Cf64 => None,
         }
     }
 
@@ -120,13 +125,14 @@ impl TrackerKind {
         }
     }
 
-    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan (from
+    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan, cf64 magenta (from
     /// [`draw::TRACKER_COLOURS`]; red and blue would vanish on the synthetic target's red
     /// shirt and blue trousers). Plots colour their curves in series order instead.
     pub fn colour(self) -> Rgb {
         match self {
             Self::Rbpf => draw::tracker_colour(2),
             Self::Pf => draw::tracker_colour(4),
+            Self::Cf64 => draw::tracker_colour(3),
         }
     }
 
@@ -135,6 +141,7 @@ impl TrackerKind {
         match self {
             Self::Rbpf => "yellow",
             Self::Pf => "cyan",
+            Self::Cf64 => "magenta",
         }
     }
 }
@@ -158,15 +165,28 @@ pub(crate) fn overrides(args: &ConfigArgs) -> Result<Overrides, Failure> {
 }
 
 /// The configuration of `tracker` with `seed` under `overrides`, checked; the error names
-/// the tracker and the field.
+/// the tracker and the field. The cf64 tracker takes only the seed of it (and its own
+/// settings from [`cf64_for`]).
 pub(crate) fn config_for(
     overrides: &Overrides,
     tracker: TrackerKind,
     seed: u64,
 ) -> Result<Config, Failure> {
     overrides
-        .config(tracker.variant(), seed)
+        .config(tracker.variant().unwrap_or(Variant::Rbpf), seed)
         .map_err(|e| fail(format!("{tracker}: {e}")))
+}
+
+/// The cf64 tracker's settings under `overrides` (its `cf.` fields), checked, for the cf64
+/// tracker; `None` for the others.
+pub(crate) fn cf64_for(
+    overrides: &Overrides,
+    tracker: TrackerKind,
+) -> Result<Option<cf64::Params>, Failure> {
+    match tracker {
+        TrackerKind::Cf64 => overrides.cf_params().map(Some).map_err(fail),
+        _ => Ok(None),
+    }
 }
 
 /// The tracker a configuration asks for (`variant`), if it names one.
@@ -179,10 +199,22 @@ pub(crate) fn configured_seed(overrides: &Overrides) -> u64 {
     overrides.value::<u64>("seed").unwrap_or(1)
 }
 
-/// The fields of `config` that differ from its variant's defaults, as `FIELD=VALUE`s,
-/// or `defaults`.
-pub(crate) fn config_summary(config: &Config) -> String {
-    let changed = crate::config_fields::changed_fields(config);
+/// A run's settings in JSON form: the cf64 tracker's where it has them, else the core's
+/// configuration.
+pub(crate) fn settings_json(config: &Config, cf64: Option<&cf64::Params>) -> serde_json::Value {
+    match cf64 {
+        Some(params) => params.to_json(),
+        None => serde_json::to_value(crate::config_fields::ConfigJson(config)).unwrap_or_default(),
+    }
+}
+
+/// The settings of a run that differ from its tracker's defaults, as `FIELD=VALUE`s, or
+/// `defaults`.
+pub(crate) fn config_summary(config: &Config, cf64: Option<&cf64::Params>) -> String {
+    let changed = match cf64 {
+        Some(params) => params.changed(),
+        None => crate::config_fields::changed_fields(config),
+    };
     if changed.is_empty() {
         "defaults".to_string()
     } else {

@@ -2,6 +2,7 @@
 //! handed to every run; the overlays drawn on those frames; box files.
 
 use super::{create_dir, fail, Failure, TrackerKind};
+use crate::cf64;
 use crate::draw::{self, GREEN};
 use crate::loss::{frame_checks, FrameCheck};
 use crate::metrics::{BBox, Evaluation};
@@ -13,13 +14,15 @@ use serde::Serialize;
 use std::path::Path;
 use std::time::Duration;
 
-/// One run to make: a filter, its configuration (the seed included) and its first box.
+/// One run to make: a tracker, its configuration (the seed included) and its first box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunSpec {
-    /// The filter.
+    /// The tracker.
     pub tracker: TrackerKind,
-    /// Its configuration, checked.
+    /// The core's configuration, checked (of the cf64 tracker's runs, only the seed).
     pub config: Config,
+    /// The cf64 tracker's settings, checked, for its runs.
+    pub cf64: Option<cf64::Params>,
     /// Where its first box lies against the given one.
     pub start: Start,
 }
@@ -239,6 +242,7 @@ where
         let options = Options {
             config: r.spec.config,
             shape,
+            cf64: r.spec.cf64,
         };
         let init = r.spec.start.apply(init);
         let runner = run::start(&options, &first, &init)

@@ -7,11 +7,10 @@ use super::runs::{
     self, box_line, check_init, create_parent, write_overlay, RunResult, RunSpec, Start,
 };
 use super::{
-    config_for, config_summary, configured_seed, configured_tracker, create_dir, emit, fail,
-    overrides, progress_bar, wrote, Failure, TrackerKind,
+    cf64_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
+    fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::parse_motions;
-use crate::config_fields::ConfigJson;
 use crate::loss::LossReport;
 use crate::run::Bins;
 use crate::sequence::{self, read_groundtruth, GtOrigin};
@@ -31,7 +30,7 @@ struct TrackJson<'a> {
     seed: u64,
     format: &'static str,
     box_origin: &'static str,
-    config: ConfigJson<'a>,
+    config: serde_json::Value,
 }
 
 /// Runs `rbtrack track`.
@@ -78,6 +77,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let spec = RunSpec {
         tracker,
         config: config_for(&overrides, tracker, seed)?,
+        cf64: cf64_for(&overrides, tracker)?,
         start: Start::GIVEN,
     };
     let format = args.raw.map_or(args.format, |raw| raw.format);
@@ -149,7 +149,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             seed,
             format: format.name(),
             box_origin: origin.name(),
-            config: ConfigJson(&run.spec.config),
+            config: settings_json(&run.spec.config, run.spec.cf64.as_ref()),
         };
         let text = serde_json::to_string(&doc).map_err(fail)?;
         emit(out, &format!("{text}\n"))?;
@@ -160,7 +160,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
                 "{name}: {frames} frames, {width}x{height} px, {format}; {tracker}, {} particles, \
                  seed {seed}; config: {}; init {} ({})\n\n",
                 args.config.particles,
-                config_summary(&run.spec.config),
+                config_summary(&run.spec.config, run.spec.cf64.as_ref()),
                 box_line(&shown),
                 origin.name()
             ),
