@@ -11,6 +11,7 @@
 //! unit test fails naming any field of `Config` it lacks.
 
 use crate::cf64;
+use crate::fields::{self, choice, field_table, FieldValue};
 use rbtrack::fixed::Q16;
 use rbtrack::resample::Scheme;
 use rbtrack::tracker::{Config, CueMix, Readout, SizeMeasurement, Variant};
@@ -20,70 +21,19 @@ use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 
-/// A type of `Config` field: parsed from and shown as text.
-pub trait FieldValue: Sized {
-    /// Reads the text form; the error says what was expected.
-    fn parse(text: &str) -> Result<Self, String>;
-    /// The JSON form (a number, or a string for enums); its text parses back to `self`.
-    fn to_json(&self) -> Value;
-}
-
 /// One field of [`Config`]: its name and how to set and read it.
-pub struct Field {
-    /// The field's name in `Config`.
-    pub name: &'static str,
-    set: fn(&mut Config, &str) -> Result<(), String>,
-    get: fn(&Config) -> Value,
-}
+pub type Field = fields::Field<Config>;
 
 impl Field {
     /// The field called `name`.
     pub fn named(name: &str) -> Option<&'static Field> {
         FIELDS.iter().find(|f| f.name == name)
     }
-
-    /// Sets this field of `config` from `text`; the error names the field.
-    pub fn set(&self, config: &mut Config, text: &str) -> Result<(), String> {
-        (self.set)(config, text.trim()).map_err(|e| format!("`{}`: {e}", self.name))
-    }
-
-    /// This field of `config` in its JSON form.
-    pub fn get(&self, config: &Config) -> Value {
-        (self.get)(config)
-    }
-
-    /// This field of `config` as `--set` takes it.
-    pub fn text(&self, config: &Config) -> String {
-        match self.get(config) {
-            Value::String(s) => s,
-            v => v.to_string(),
-        }
-    }
 }
 
-impl fmt::Debug for Field {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name)
-    }
-}
-
-macro_rules! fields {
-    { $($name:ident,)* } => {
-        /// Every field of [`Config`], in its declaration order.
-        pub static FIELDS: &[Field] = &[$(
-            Field {
-                name: stringify!($name),
-                set: |config, text| {
-                    config.$name = FieldValue::parse(text)?;
-                    Ok(())
-                },
-                get: |config| config.$name.to_json(),
-            },
-        )*];
-    };
-}
-
-fields! {
+/// Every field of [`Config`], in its declaration order.
+pub static FIELDS: &[Field] = field_table! {
+    Config, "";
     variant,
     seed,
     pixels_per_window,
@@ -123,39 +73,7 @@ fields! {
     freeze_size,
     redetect_prior,
     learn_scale_per_row,
-}
-
-fn whole<T: FromStr + fmt::Display>(text: &str, max: T) -> Result<T, String> {
-    text.parse()
-        .map_err(|_| format!("expected a whole number in 0..={max}, got {text:?}"))
-}
-
-impl FieldValue for u64 {
-    fn parse(text: &str) -> Result<Self, String> {
-        whole(text, u64::MAX)
-    }
-    fn to_json(&self) -> Value {
-        Value::from(*self)
-    }
-}
-
-impl FieldValue for u32 {
-    fn parse(text: &str) -> Result<Self, String> {
-        whole(text, u32::MAX)
-    }
-    fn to_json(&self) -> Value {
-        Value::from(*self)
-    }
-}
-
-impl FieldValue for u8 {
-    fn parse(text: &str) -> Result<Self, String> {
-        whole(text, u8::MAX)
-    }
-    fn to_json(&self) -> Value {
-        Value::from(*self)
-    }
-}
+};
 
 /// Largest magnitude of a Q16.16 value.
 const Q16_LIMIT: f64 = 32768.0;
@@ -178,37 +96,6 @@ impl FieldValue for Q16 {
             .find(|v| Q16::from_f64(*v) == *self)
             .unwrap_or(exact);
         Value::from(shortest)
-    }
-}
-
-/// Parses `name` or `name:ARG` against `choices` (lowercase names, case-insensitive),
-/// returning the chosen name and its argument.
-fn choice<'a>(
-    text: &'a str,
-    choices: &[&'static str],
-    expected: &str,
-) -> Result<(&'static str, Option<&'a str>), String> {
-    let (name, arg) = match text.split_once(':') {
-        Some((n, a)) => (n, Some(a.trim())),
-        None => (text, None),
-    };
-    choices
-        .iter()
-        .find(|c| c.eq_ignore_ascii_case(name.trim()))
-        .map(|c| (*c, arg))
-        .ok_or_else(|| format!("expected {expected}, got {text:?}"))
-}
-
-impl FieldValue for bool {
-    fn parse(text: &str) -> Result<Self, String> {
-        match choice(text, &["true", "false"], "true or false")? {
-            ("true", None) => Ok(true),
-            ("false", None) => Ok(false),
-            _ => Err(format!("expected true or false, got {text:?}")),
-        }
-    }
-    fn to_json(&self) -> Value {
-        Value::from(*self)
     }
 }
 

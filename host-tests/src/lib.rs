@@ -7,6 +7,7 @@ pub mod cli;
 pub mod config_fields;
 pub mod draw;
 pub mod faults;
+pub mod fields;
 pub mod follow;
 pub mod loss;
 pub mod metrics;

@@ -2,6 +2,7 @@
 //! (`rbtrack --set cf.grid=16`).
 
 use super::fhog::Hog;
+use crate::fields::{self, field_table, FieldValue};
 use serde_json::Value;
 
 /// The tracker's settings. [`Params::default`] is the configuration the measurements in
@@ -131,111 +132,28 @@ impl Default for Params {
     }
 }
 
-/// A setting's type: parsed from text and shown as JSON.
-trait ParamValue: Sized {
-    fn parse(text: &str) -> Result<Self, String>;
-    fn json(&self) -> Value;
-}
-
-impl ParamValue for f64 {
-    fn parse(text: &str) -> Result<Self, String> {
-        text.parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("expected a number, got {text:?}"))
-    }
-    fn json(&self) -> Value {
-        Value::from(*self)
-    }
-}
-
-impl ParamValue for usize {
-    fn parse(text: &str) -> Result<Self, String> {
-        text.parse()
-            .map_err(|_| format!("expected a whole number, got {text:?}"))
-    }
-    fn json(&self) -> Value {
-        Value::from(*self)
-    }
-}
-
-impl ParamValue for u32 {
-    fn parse(text: &str) -> Result<Self, String> {
-        text.parse()
-            .map_err(|_| format!("expected a whole number, got {text:?}"))
-    }
-    fn json(&self) -> Value {
-        Value::from(*self)
-    }
-}
-
-impl ParamValue for bool {
-    fn parse(text: &str) -> Result<Self, String> {
-        text.parse()
-            .map_err(|_| format!("expected true or false, got {text:?}"))
-    }
-    fn json(&self) -> Value {
-        Value::from(*self)
-    }
-}
-
-impl ParamValue for Hog {
+impl FieldValue for Hog {
     fn parse(text: &str) -> Result<Self, String> {
         Hog::parse(text)
     }
-    fn json(&self) -> Value {
+    fn to_json(&self) -> Value {
         Value::from(self.name())
     }
 }
 
 /// One setting of [`Params`]: its name and how to set and read it.
-pub struct Field {
-    /// The field's name in `Params`.
-    pub name: &'static str,
-    set: fn(&mut Params, &str) -> Result<(), String>,
-    get: fn(&Params) -> Value,
-}
+pub type Field = fields::Field<Params>;
 
 impl Field {
-    /// The field called `name`.
+    /// The setting called `name` (without `cf.`).
     pub fn named(name: &str) -> Option<&'static Field> {
         FIELDS.iter().find(|f| f.name == name)
     }
-
-    /// Sets this field of `params` from `text`; the error names the field.
-    pub fn set(&self, params: &mut Params, text: &str) -> Result<(), String> {
-        (self.set)(params, text.trim()).map_err(|e| format!("`cf.{}`: {e}", self.name))
-    }
-
-    /// This field of `params` in its JSON form.
-    pub fn get(&self, params: &Params) -> Value {
-        (self.get)(params)
-    }
 }
 
-impl std::fmt::Debug for Field {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "cf.{}", self.name)
-    }
-}
-
-macro_rules! fields {
-    { $($name:ident,)* } => {
-        /// Every field of [`Params`], in declaration order.
-        pub static FIELDS: &[Field] = &[$(
-            Field {
-                name: stringify!($name),
-                set: |params, text| {
-                    params.$name = ParamValue::parse(text)?;
-                    Ok(())
-                },
-                get: |params| params.$name.json(),
-            },
-        )*];
-    };
-}
-
-fields! {
+/// Every setting of [`Params`], in declaration order.
+pub static FIELDS: &[Field] = field_table! {
+    Params, "cf.";
     grid,
     cell,
     padding,
@@ -272,7 +190,7 @@ fields! {
     particle_peak_share,
     particle_tau,
     fresh_patch,
-}
+};
 
 impl Params {
     /// Checks every setting; the error names the first one out of its range.
