@@ -128,14 +128,19 @@ mod tests {
             .collect()
     }
 
+    /// The 20 x 10 frame of [`ramp`].
+    fn image(rgb: &[u8]) -> RgbImage<'_> {
+        RgbImage {
+            width: 20,
+            height: 10,
+            rgb,
+        }
+    }
+
     #[test]
     fn a_patch_of_the_same_size_copies_the_pixels() {
         let rgb = ramp(20, 10);
-        let img = RgbImage {
-            width: 20,
-            height: 10,
-            rgb: &rgb,
-        };
+        let img = image(&rgb);
         // 6 x 4 px centred on (8.5, 4.5): columns 6..=11, rows 3..=6.
         let p = img.patch((8.5, 4.5), (6.0, 4.0), (6, 4));
         assert_eq!(p.at(0, 0), [6.0, 3.0, 7.0]);
@@ -145,11 +150,7 @@ mod tests {
     #[test]
     fn shrinking_by_two_averages_pairs() {
         let rgb = ramp(20, 10);
-        let img = RgbImage {
-            width: 20,
-            height: 10,
-            rgb: &rgb,
-        };
+        let img = image(&rgb);
         let p = img.patch((9.5, 4.5), (20.0, 10.0), (10, 5));
         assert_eq!(p.at(0, 0), [0.5, 0.5, 7.0]);
         assert_eq!(p.at(9, 4), [18.5, 8.5, 7.0]);
@@ -158,11 +159,7 @@ mod tests {
     #[test]
     fn outside_the_frame_repeats_the_edge() {
         let rgb = ramp(20, 10);
-        let img = RgbImage {
-            width: 20,
-            height: 10,
-            rgb: &rgb,
-        };
+        let img = image(&rgb);
         // 4 x 4 px centred on (0.5, 0.5): columns and rows -1..=2.
         let p = img.patch((0.5, 0.5), (4.0, 4.0), (4, 4));
         assert_eq!(p.at(0, 0), [0.0, 0.0, 7.0]);
@@ -172,11 +169,7 @@ mod tests {
     #[test]
     fn every_second_pixel_halves_the_patch() {
         let rgb = ramp(20, 10);
-        let img = RgbImage {
-            width: 20,
-            height: 10,
-            rgb: &rgb,
-        };
+        let img = image(&rgb);
         let p = img.patch((9.5, 4.5), (20.0, 10.0), (20, 10)).every(2);
         assert_eq!((p.width, p.height), (10, 5));
         assert_eq!(p.at(3, 2), [6.0, 4.0, 7.0]);
@@ -185,11 +178,7 @@ mod tests {
     #[test]
     fn growing_interpolates_linearly() {
         let rgb = ramp(20, 10);
-        let img = RgbImage {
-            width: 20,
-            height: 10,
-            rgb: &rgb,
-        };
+        let img = image(&rgb);
         // 2 x 2 px centred on (5.5, 5.5) to 4 x 4: output centres at 4.75, 5.25, 5.75, 6.25.
         let p = img.patch((5.5, 5.5), (2.0, 2.0), (4, 4));
         assert_eq!(p.at(0, 0), [4.75, 4.75, 7.0]);

@@ -3,11 +3,12 @@
 //!
 //! Sample `s` is the target's box times `step^(ceil(S / 2) - 1 - s)` (`s` from 0), resampled
 //! to a fixed model size of at most `area` px, described by its fHOG cells flattened into
-//! one column of `D` values and weighted by a Hann window over the scales. Per feature `d`,
-//! `X_d` is the 1-D transform of its row over the scales; the filter keeps
+//! one column of `D` values, optionally weighted by a Hann window over the scales. Per
+//! feature `d`, `X_d` is the 1-D transform of its row over the scales; the filter keeps
 //! `A_d <- (1 - eta) A_d + eta Y conj(X_d)` and `B <- (1 - eta) B + eta sum_d |X_d|^2`,
-//! `Y` the transform of a Gaussian over the scales peaked at the middle one; a new sample
-//! `Z` answers `IFFT(sum_d A_d Z_d / (B + lambda))`, peaked at the scale the target now has.
+//! `Y` the transform of a Gaussian over the scales peaked at the sample of the target's size
+//! (the middle one for samples taken at that size); a new sample `Z` answers
+//! `IFFT(sum_d A_d Z_d / (B + lambda))`, peaked at the scale the target now has.
 
 use super::fft::{Fft1, C64};
 use super::fhog::{features, Hog};
@@ -23,8 +24,6 @@ pub struct ScaleParams {
     pub step: f64,
     /// Width of the desired response, as a share of `sqrt(scales)` (in scales).
     pub sigma: f64,
-    /// Learning rate.
-    pub rate: f64,
     /// Largest model size, px^2.
     pub area: f64,
     /// fHOG cell, px.
@@ -192,7 +191,6 @@ mod tests {
             scales: 33,
             step: 1.02,
             sigma: 0.25,
-            rate: 0.025,
             area: 32.0 * 16.0,
             cell: 4,
             hog: Hog::Fhog31,

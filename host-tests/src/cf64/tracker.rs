@@ -527,7 +527,6 @@ fn scale_params(params: &Params) -> ScaleParams {
         scales: params.scales,
         step: params.scale_step,
         sigma: params.scale_sigma,
-        rate: params.scale_rate,
         area: params.scale_area,
         cell: params.scale_cell,
         hog: params.scale_hog,

@@ -23,6 +23,7 @@ const EXAMPLES: &str = "Examples:
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --set colour_sigma=0.15
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --starts spatial
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --camera pan-known
+  rbtrack eval ../shared/data --tracker cf64 --starts spatial --set cf.grid=16
   rbtrack follow ../shared/data/Woman
   rbtrack frames ../shared/data/Crossing out/Crossing.rgb
   rbtrack paper --runs 10";
