@@ -6,6 +6,7 @@ instructions a frame, one row per configuration, as a Markdown table.
     cargo build --release -p rbtrack-host
     python3 benches/cf64_configs.py ../shared/data --zero-based-sequences ball1_vot15 > table.md
     python3 benches/cf64_configs.py ../shared/data --zero-based-sequences ball1_vot15 --rows default,port
+    python3 benches/cf64_configs.py --from-json figures.json    # the table of an earlier --json run
 
 Each row runs `rbtrack eval DATA --tracker cf64 --seed 1 --starts spatial --json` with its
 `--set cf.FIELD=VALUE`s on top of the defaults (`cf64::Params::default`); the tracker is
@@ -117,27 +118,42 @@ def main():
                         help="comma-separated sequences whose ground truth counts from 0")
     parser.add_argument("--rows", help="comma-separated row names (default: all)")
     parser.add_argument("--rbtrack", help="path of the rbtrack binary")
-    parser.add_argument("--json", help="also write the figures to this file")
+    parser.add_argument("--json", help="also write the figures to this file (after each row)")
+    parser.add_argument("--from-json", help="print the table of a file --json wrote, running nothing")
     args = parser.parse_args()
-    binary = find_rbtrack(args.rbtrack)
+    binary = None if args.from_json else find_rbtrack(args.rbtrack)
     rows = ROWS
     if args.rows:
         wanted = [r.strip() for r in args.rows.split(",")]
         rows = [r for r in ROWS if r[1] in wanted or r[0] in wanted]
-    print("| group | configuration | `--set` (cf.) | box | 7 starts | ROC | flagged | good as Lost "
-          "| < 0.20 | instructions |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    if args.from_json:
+        results = json.loads(Path(args.from_json).read_text())
+        print(HEADER)
+        for r in results:
+            print(row(r))
+        return
+    print(HEADER)
     results = []
     for group, name, settings in rows:
         r = run(binary, args.data, args.zero_based_sequences, settings)
         results.append({"group": group, "name": name, "settings": settings, **r})
-        pct = lambda v: "-" if v is None else f"{100 * v:.0f} %"
-        print(f"| {group} | {name} | {' '.join(settings) or '-'} | {r['box']:.3f} | "
-              f"{r['starts']:.3f} | {r['roc'] or 0:.3f} | {pct(r['flagged'])} | "
-              f"{pct(r['good_lost'])} | {r['below_020']} | {r['instructions'] / 1e6:.2f} M |",
-              flush=True)
-    if args.json:
-        Path(args.json).write_text(json.dumps(results, indent=1))
+        print(row(results[-1]), flush=True)
+        if args.json:
+            Path(args.json).write_text(json.dumps(results, indent=1))
+
+
+HEADER = (
+    "| group | configuration | `--set` (cf.) | box | 7 starts | ROC | flagged | good as Lost "
+    "| < 0.20 | instructions |\n|---|---|---|---|---|---|---|---|---|---|"
+)
+
+
+def row(r):
+    """One table row of a configuration's figures."""
+    pct = lambda v, digits: "-" if v is None else f"{100 * v:.{digits}f} %"
+    return (f"| {r['group']} | {r['name']} | {' '.join(r['settings']) or '-'} | {r['box']:.3f} | "
+            f"{r['starts']:.3f} | {r['roc'] or 0:.3f} | {pct(r['flagged'], 0)} | "
+            f"{pct(r['good_lost'], 2)} | {r['below_020']} | {r['instructions'] / 1e6:.2f} M |")
 
 
 if __name__ == "__main__":
