@@ -1,16 +1,21 @@
-//! The core's fixed-point FFT (`rbtrack::fft`) against rustfft in f64, the bound asserted
-//! being `error_bound_lsb(P)` (`4 + sqrt P` for `P` points): the largest absolute error of
-//! any output, in LSB of the output's block scale (`2^e`, `e` the returned exponent).
+//! The core's fixed-point FFT (`rbtrack::fft`) against rustfft in f64. Errors are the
+//! largest absolute error of any output, in LSB of the output's block scale (`2^e`, `e`
+//! the returned exponent), for `P` points:
 //! - Every size, 1-D (2 to 64 points) and 2-D (16 x 16, 32 x 32, 64 x 64, and 8 x 32),
 //!   forward and inverse, on random samples of every magnitude (2 to 32 bits), as they
-//!   come and normalised first: within the bound, and normalised blocks above 140 dB of
-//!   signal to error. `cargo test --test fft -- --nocapture` prints the largest errors.
+//!   come and normalised first: within `typical_error_lsb(P)` (`4 + sqrt P`), and
+//!   normalised blocks above 140 dB of signal to error. `cargo test --test fft --
+//!   --nocapture` prints the largest errors.
 //! - Property tests over arbitrary samples with the full-scale extremes (`i32::MIN`
 //!   everywhere, alternating `i32::MIN` and `i32::MAX`, constants, any `i32`): no panic,
-//!   and within the same bound, which a wrapped overflow (`2^32` LSB off) would break.
+//!   and within `error_bound_lsb(P)` (`3 P`, the bound for any input), which a wrapped
+//!   overflow (`2^32` LSB off) would break.
 
 use proptest::prelude::*;
-use rbtrack::fft::{error_bound_lsb, forward, forward_2d, inverse, inverse_2d, normalise, Complex};
+use rbtrack::fft::{
+    error_bound_lsb, forward, forward_2d, inverse, inverse_2d, normalise, typical_error_lsb,
+    Complex,
+};
 use rbtrack::rng::Rng;
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
@@ -126,7 +131,7 @@ fn random_blocks((rows, cols): (usize, usize), transform: Transform, blocks: usi
                 let e = transform(&x, &mut out, inv, normalised);
                 let (err, snr) = errors(&out, e, &oracle(&x, rows, cols, inv));
                 assert!(
-                    err <= error_bound_lsb(points) as f64,
+                    err <= typical_error_lsb(points) as f64,
                     "{rows} x {cols}, {bits} bits, inverse {inv}, normalised {normalised}: {err} LSB"
                 );
                 if normalised {
@@ -139,7 +144,7 @@ fn random_blocks((rows, cols): (usize, usize), transform: Transform, blocks: usi
     }
     println!(
         "{rows} x {cols}: largest error {worst:.2} LSB (bound {}), normalised SNR >= {min_snr:.1} dB",
-        error_bound_lsb(points)
+        typical_error_lsb(points)
     );
 }
 
