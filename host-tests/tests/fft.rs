@@ -3,7 +3,7 @@
 //! the returned exponent), for `P` points:
 //! - Every size, 1-D (2 to 64 points) and 2-D (16 x 16, 32 x 32, 64 x 64, and 8 x 32),
 //!   forward and inverse, on random samples of every magnitude (2 to 32 bits), as they
-//!   come and normalised first: within `typical_error_lsb(P)` (`4 + sqrt P`), and
+//!   come and normalised first: within `4 + sqrt P`, and
 //!   normalised blocks above 140 dB of signal to error. `cargo test --test fft --
 //!   --nocapture` prints the largest errors.
 //! - Property tests over arbitrary samples with the full-scale extremes (`i32::MIN`
@@ -12,10 +12,7 @@
 //!   overflow (`2^32` LSB off) would break.
 
 use proptest::prelude::*;
-use rbtrack::fft::{
-    error_bound_lsb, forward, forward_2d, inverse, inverse_2d, normalise, typical_error_lsb,
-    Complex,
-};
+use rbtrack::fft::{error_bound_lsb, forward, forward_2d, inverse, inverse_2d, normalise, Complex};
 use rbtrack::rng::Rng;
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
@@ -69,6 +66,11 @@ fn errors(out: &[Complex], e: i32, want: &[Complex64]) -> (f64, f64) {
         _ => 10.0 * (signal / noise).log10(),
     };
     (worst, snr)
+}
+
+/// The bound on random inputs, `4 + sqrt P` LSB for `P` points (`rbtrack::fft`'s doc).
+fn typical_error_lsb(points: usize) -> f64 {
+    4.0 + (points as f64).sqrt()
 }
 
 /// Random samples of `bits` bits (`-2^(bits-1)` to `2^(bits-1) - 1`).
@@ -131,7 +133,7 @@ fn random_blocks((rows, cols): (usize, usize), transform: Transform, blocks: usi
                 let e = transform(&x, &mut out, inv, normalised);
                 let (err, snr) = errors(&out, e, &oracle(&x, rows, cols, inv));
                 assert!(
-                    err <= typical_error_lsb(points) as f64,
+                    err <= typical_error_lsb(points),
                     "{rows} x {cols}, {bits} bits, inverse {inv}, normalised {normalised}: {err} LSB"
                 );
                 if normalised {
@@ -143,7 +145,7 @@ fn random_blocks((rows, cols): (usize, usize), transform: Transform, blocks: usi
         }
     }
     println!(
-        "{rows} x {cols}: largest error {worst:.2} LSB (bound {}), normalised SNR >= {min_snr:.1} dB",
+        "{rows} x {cols}: largest error {worst:.2} LSB (bound {:.1}), normalised SNR >= {min_snr:.1} dB",
         typical_error_lsb(points)
     );
 }
