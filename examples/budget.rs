@@ -8,7 +8,9 @@
 //! - per target size, the scene's target scaled from 20 px to 120 px tall on average (at
 //!   120 px it reaches 180 px, three quarters of the frame's height), N = 100, defaults;
 //! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps, and a known
-//!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom).
+//!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom);
+//! - one 2-D forward FFT of a 32 x 32 grid of full-scale Q31 samples (`rbtrack::fft`, the
+//!   correlation filter's transform).
 //!
 //! ```sh
 //! cargo run --release --example budget --target thumbv7em-none-eabihf
@@ -24,10 +26,12 @@ fn main() {
 mod budget {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
+    use rbtrack::fft::{self, Complex};
     use rbtrack::fixed::Q16;
     use rbtrack::image::Rgb8x8x8;
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::{CycleCounter, StageCycles};
+    use rbtrack::rng::Rng;
     use rbtrack::tracker::{CameraMotion, Config, Status, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
     use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
@@ -66,6 +70,10 @@ mod budget {
     }
 
     static OTHER: ConstStaticCell<Other> = ConstStaticCell::new(Other::Idle);
+
+    /// The FFT's grid, 8 KiB: not on the stack.
+    static FFT_GRID: ConstStaticCell<[[Complex; 32]; 32]> =
+        ConstStaticCell::new([[Complex::ZERO; 32]; 32]);
 
     /// Means and largest of one run, per frame.
     struct Cost {
@@ -291,6 +299,21 @@ mod budget {
                 counter.now().wrapping_sub(start)
             );
         }
+
+        let Some(grid) = FFT_GRID.try_take() else {
+            panic!("statics taken twice");
+        };
+        let mut rng = Rng::new(1);
+        for v in grid.as_flattened_mut() {
+            *v = Complex::new(rng.next_u32() as i32, rng.next_u32() as i32);
+        }
+        let start = counter.now();
+        let exponent = fft::forward_2d(core::hint::black_box(grid));
+        hprintln!(
+            "2-D forward FFT, 32 x 32, Q31: {} instructions (block exponent {})",
+            counter.now().wrapping_sub(start),
+            exponent
+        );
 
         // A tracker made in place must not have passed through the stack.
         let stack = board::stack_use();

@@ -31,7 +31,9 @@
 //! `estimate` (and its box), `model`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
 //! `size_covariance` and `scale_per_row`; and the pan/tilt controller's `PanTilt::new`
-//! (with settings it cannot see), `step` on those estimates and `command`.
+//! (with settings it cannot see), `step` on those estimates and `command`; and the FFT's
+//! `forward`, `inverse` (8 to 64 points), `forward_2d`, `inverse_2d` (16 x 16 to 64 x 64)
+//! and `normalise` on samples it cannot see.
 //!
 //! The proof is the link; the program is not meant to be run. On a hosted target it is an
 //! empty program.
@@ -46,6 +48,7 @@ fn main() {
 mod proof {
     use core::hint::black_box;
     use cortex_m_rt::entry;
+    use rbtrack::fft::{self, Complex};
     use rbtrack::fixed::Q16;
     use rbtrack::image::{
         Bgr888, Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888,
@@ -144,6 +147,21 @@ mod proof {
         }
     }
 
+    /// The 1-D FFTs of `N` points and the 2-D FFTs of `N x N`, both ways, on samples the
+    /// optimiser cannot see.
+    fn fourier<const N: usize>() {
+        let mut row = black_box([Complex::ZERO; N]);
+        black_box(fft::normalise(&mut row));
+        black_box(fft::forward(&mut row));
+        black_box(fft::inverse(&mut row));
+        let mut grid = black_box([[Complex::ZERO; N]; N]);
+        black_box(fft::normalise(grid.as_flattened_mut()));
+        black_box(fft::forward_2d(&mut grid));
+        black_box(fft::inverse_2d(&mut grid));
+        black_box(row);
+        black_box(grid);
+    }
+
     /// [`exercise`] for every pixel format.
     fn every_format<Bn: Binning, const N: usize, const B: usize>(tracker: &mut Tracker<Bn, N, B>) {
         exercise::<Bn, N, B, Gray8>(tracker);
@@ -166,6 +184,10 @@ mod proof {
             every_format(&mut coarse);
             every_format(&mut chroma);
             every_format(&mut grey);
+            fourier::<8>();
+            fourier::<16>();
+            fourier::<32>();
+            fourier::<64>();
         }
     }
 

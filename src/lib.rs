@@ -43,6 +43,7 @@
 //! - [`fixed`]: the Q16.16 number type, saturating, and the integer division and square
 //!   roots of the per-frame path.
 //! - `trig` (private): cosine and sine of whole fractions of a turn, integer only.
+//! - [`fft`]: radix-2 FFTs, 1-D and 2-D, of Q31 complex samples, block floating point.
 //! - [`rng`]: seeded Xoshiro128++ draws, uniform and standard normal, without floats.
 //!
 //! Frames:
@@ -82,6 +83,8 @@
 extern crate std;
 
 // Arithmetic.
+#[doc(hidden)]
+pub mod fft;
 pub mod fixed;
 #[doc(hidden)]
 pub mod rng;

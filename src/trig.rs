@@ -1,6 +1,7 @@
-//! `cos` and `sin` of a whole fraction of a turn, `2 pi k / n`, rounded to Q16.16 in
-//! integer arithmetic: the gradient cue's boundary angles, without floating point or a
-//! float library in the firmware.
+//! `cos` and `sin` of a whole fraction of a turn, `2 pi k / n`, rounded to Q16.16 or any
+//! other fraction bits in integer arithmetic: the gradient cue's boundary angles, without
+//! floating point or a float library in the firmware, and the FFT's Q31 twiddles, built
+//! at compile time.
 //!
 //! The angle is reduced to the first octant exactly (quadrant and complement from `4 k`
 //! modulo `n`), then both functions are Taylor series in Q2.62 (to `x^15 / 15!` and
@@ -19,28 +20,36 @@ const ONE_Q62: u64 = 1 << 62;
 /// `a b` for `a`, `b` in Q2.62 below 2, rounded down. Not inlined: the tables are built
 /// once, and one copy of the 128-bit product is smaller than twenty.
 #[inline(never)]
-fn mul_q62(a: u64, b: u64) -> u64 {
+const fn mul_q62(a: u64, b: u64) -> u64 {
     ((a as u128 * b as u128) >> 62) as u64
 }
 
 /// `1 - x2 / d1 (1 - x2 / d2 (1 - ...))` over the divisors `d` (innermost last), Q2.62,
 /// for `x2 < 1` (every partial value then lies in `(0, 1]`).
-fn nested_series(x2: u64, divisors: &[u64]) -> u64 {
-    divisors.iter().rev().fold(ONE_Q62, |inner, &d| {
-        ONE_Q62 - mul_q62(x2, inner).checked_div(d).unwrap_or(0)
-    })
+const fn nested_series(x2: u64, divisors: &[u64]) -> u64 {
+    let (mut inner, mut rest) = (ONE_Q62, divisors);
+    while let [outer @ .., d] = rest {
+        inner = ONE_Q62
+            - match mul_q62(x2, inner).checked_div(*d) {
+                Some(q) => q,
+                None => 0,
+            };
+        rest = outer;
+    }
+    inner
 }
 
-/// Rounds a Q2.62 value in `[0, 1]` to Q16.16 (nearest, half up).
-fn round_q16(v: u64) -> i32 {
-    ((v + (1 << 45)) >> 46) as i32
+/// Rounds a Q2.62 value in `[0, 1]` to `bits <= 62` fraction bits (nearest, half up).
+const fn round_q62(v: u64, bits: u32) -> i64 {
+    let drop = 62 - bits;
+    ((v + ((1 << drop) >> 1)) >> drop) as i64
 }
 
-/// `(cos, sin)` of `2 pi k / n`, Q16.16 rounded to nearest (half away from zero); `(1, 0)`
-/// for `n = 0`.
-pub(crate) fn cos_sin_of_turn(k: u32, n: u32) -> (Q16, Q16) {
+/// `(cos, sin)` of `2 pi k / n` with `bits <= 62` fraction bits, rounded to nearest (half
+/// away from zero); `(1, 0)` for `n = 0`. Const, so tables of it are built at compile time.
+pub(crate) const fn cos_sin_bits(k: u32, n: u32, bits: u32) -> (i64, i64) {
     if n == 0 {
-        return (Q16::ONE, Q16::ZERO);
+        return (1 << bits, 0);
     }
     // 4 k / n quarter turns: quadrant `q`, then `r / n` of a quarter turn.
     let quarters = 4 * (k % n) as u64;
@@ -53,16 +62,22 @@ pub(crate) fn cos_sin_of_turn(k: u32, n: u32) -> (Q16, Q16) {
     let cos = nested_series(x2, &[2, 12, 30, 56, 90, 132, 182, 240]);
     let sin = mul_q62(x, nested_series(x2, &[6, 20, 42, 72, 110, 156, 210]));
     let (c, s) = match swap {
-        false => (round_q16(cos), round_q16(sin)),
-        true => (round_q16(sin), round_q16(cos)),
+        false => (round_q62(cos, bits), round_q62(sin, bits)),
+        true => (round_q62(sin, bits), round_q62(cos, bits)),
     };
-    let (cos, sin) = match quadrant {
+    match quadrant {
         0 => (c, s),
         1 => (-s, c),
         2 => (-c, -s),
         _ => (s, -c),
-    };
-    (Q16::from_bits(cos), Q16::from_bits(sin))
+    }
+}
+
+/// `(cos, sin)` of `2 pi k / n`, Q16.16 rounded to nearest (half away from zero); `(1, 0)`
+/// for `n = 0`.
+pub(crate) fn cos_sin_of_turn(k: u32, n: u32) -> (Q16, Q16) {
+    let (cos, sin) = cos_sin_bits(k, n, Q16::FRAC_BITS);
+    (Q16::from_bits(cos as i32), Q16::from_bits(sin as i32))
 }
 
 #[cfg(test)]
