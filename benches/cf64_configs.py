@@ -31,10 +31,10 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 
 # The port: what the microcontroller tracker takes (docs/accuracy.md chooses it): one patch
-# a frame (learning on the detection patch), 13 fHOG channels and grey, 8 scales at 1.08
-# read between samples, 4 bits a colour channel, the colour model on every second pixel.
+# a frame (learning on the detection patch), the 9 unsigned fHOG channels and grey, 8 scales
+# at 1.08 read between samples, 4 bits a colour channel, colour on every second pixel.
 PORT = [
-    "fresh_patch=false", "hog=13", "scales=8", "scale_step=1.08", "scale_window=false",
+    "fresh_patch=false", "hog=9", "scales=8", "scale_step=1.08", "scale_window=false",
     "scale_interpolate=true", "scale_limit=1", "colour_bits=4", "colour_step=2",
 ]
 
