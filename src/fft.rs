@@ -773,7 +773,9 @@ mod tests {
 
     #[test]
     fn the_exponent_counts_only_the_shifts_needed() {
-        // Below 2^29 / (1 + sqrt 2)^log2 N nothing shifts: a 64-point block under 2^21.
+        // A 64-point block under 2^21 stays below each stage's threshold (2^29 for radix 2,
+        // 2^28 for radix 4, grown by at most (1 + sqrt 2)^2 (1 + 3 sqrt 2)^2 < 2^7.6):
+        // nothing shifts.
         let mut rng = Rng::new(3);
         let x = random::<64>(&mut rng, 20);
         assert_eq!(forward(&mut x.clone()), 0);
