@@ -289,7 +289,7 @@ impl Lanes for Complex {
         w: &[(i32, i32); 3],
     ) -> u32 {
         // Terms of at most `sqrt 2 2^28 + 1/2`, sums of four of them below `1.5e9` (module
-        // doc): the adds wrap nowhere. In this order, few values are live at once.
+        // doc): the adds wrap nowhere.
         let u0 = Self::new(shift_round::<S>(q0.re), shift_round::<S>(q0.im));
         let u1 = twiddled::<INVERSE, ONE, S>(*q1, w[1]);
         let (are, aim) = (u0.re.wrapping_add(u1.re), u0.im.wrapping_add(u1.im));
@@ -317,20 +317,7 @@ impl Lanes for Complex {
         b: &mut Self,
         w: (i32, i32),
     ) -> u32 {
-        // `t = w b / 2^S`, |t| <= sqrt 2 2^31 / 2^S: Q31 products rounded, or the shift
-        // alone for `w = 1`.
-        let (tre, tim) = if ONE {
-            (
-                shift_round_to_zero::<S>(b.re),
-                shift_round_to_zero::<S>(b.im),
-            )
-        } else {
-            let sin = if INVERSE { -w.1 } else { w.1 };
-            (
-                q31_dot::<S>(b.re, b.im, w.0, sin),
-                q31_dot::<S>(b.im, b.re, w.0, sin.wrapping_neg()),
-            )
-        };
+        let Self { re: tre, im: tim } = twiddled::<INVERSE, ONE, S>(*b, w);
         // `r t`: `-i t = (tim, -tre)` forward, `i t = (-tim, tre)` inverse, folded into
         // the adds (no negation to overflow).
         let (are, aim) = (shift_round::<S>(a.re), shift_round::<S>(a.im));
