@@ -81,6 +81,7 @@
 //! rbtrack::fft::forward(&mut [rbtrack::fft::Complex::ZERO; 12]);
 //! ```
 
+use crate::fixed::Q16;
 use crate::trig::cos_sin_bits;
 use core::any::Any;
 
@@ -122,6 +123,13 @@ impl Complex {
     }
 }
 
+/// `(cos, sin)` of `2 pi k / n`, Q31, 1 saturated to `i32::MAX` (`Q16::saturate` clamps
+/// any raw `i64`).
+const fn twiddle(k: u32, n: u32) -> (i32, i32) {
+    let (cos, sin) = cos_sin_bits(k, n, 31);
+    (Q16::saturate(cos).to_bits(), Q16::saturate(sin).to_bits())
+}
+
 /// The twiddles of every stage, `(cos, sin)` Q31 (1 saturates to `i32::MAX`): those of
 /// the stage of butterflies `half` apart, `2 pi j / (2 half)` for `j < half / 2` (a quarter
 /// turn), at `half / 2 + j`, so that each stage's are contiguous.
@@ -134,8 +142,7 @@ const fn twiddles() -> [(i32, i32); MAX_POINTS / 2] {
     while quarter < table.len() {
         let mut j = 0;
         while j < quarter {
-            let (cos, sin) = cos_sin_bits(j as u32, 4 * quarter as u32, 31);
-            table[quarter + j] = (saturate(cos), saturate(sin));
+            table[quarter + j] = twiddle(j as u32, 4 * quarter as u32);
             j += 1;
         }
         quarter *= 2;
@@ -157,8 +164,7 @@ const fn twiddles4() -> [[(i32, i32); 3]; (MAX_POINTS / 2 - 2) / 3] {
         while j < h {
             let mut k = 0;
             while k < 3 {
-                let (cos, sin) = cos_sin_bits(((k + 1) * j) as u32, 4 * h as u32, 31);
-                table[(h - 2) / 3 + j][k] = (saturate(cos), saturate(sin));
+                table[(h - 2) / 3 + j][k] = twiddle(((k + 1) * j) as u32, 4 * h as u32);
                 k += 1;
             }
             j += 1;
@@ -166,17 +172,6 @@ const fn twiddles4() -> [[(i32, i32); 3]; (MAX_POINTS / 2 - 2) / 3] {
         h *= 4;
     }
     table
-}
-
-/// `v` clamped to the `i32` range.
-const fn saturate(v: i64) -> i32 {
-    if v > i32::MAX as i64 {
-        i32::MAX
-    } else if v < i32::MIN as i64 {
-        i32::MIN
-    } else {
-        v as i32
-    }
 }
 
 /// The right shift of a stage whose inputs' [`Complex::magnitude_bits`] OR to `mag`: 0
