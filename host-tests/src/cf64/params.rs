@@ -20,6 +20,9 @@ pub struct Params {
     pub hog: Hog,
     /// A grey channel (the cell's mean) beside them.
     pub grey: bool,
+    /// fHOG gradients of the luma alone, not of the strongest colour channel: what a grey
+    /// or YUV camera gives, and what the integer tracker reads.
+    pub luma_gradient: bool,
     /// Width of the desired response: this share of the target's `sqrt(w h)`, in cells.
     pub sigma: f64,
     /// Regulariser of the translation filter.
@@ -97,6 +100,7 @@ impl Default for Params {
             padding: 1.0,
             hog: Hog::Fhog27,
             grey: true,
+            luma_gradient: false,
             sigma: 1.0 / 16.0,
             lambda: 1e-3,
             cf_rate: 0.01,
@@ -159,6 +163,7 @@ pub static FIELDS: &[Field] = field_table! {
     padding,
     hog,
     grey,
+    luma_gradient,
     sigma,
     lambda,
     cf_rate,
