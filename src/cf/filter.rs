@@ -21,6 +21,20 @@ pub struct Filter<const G: usize> {
 }
 
 impl<const G: usize> Filter<G> {
+    /// Untrained.
+    pub const UNSET: Self = Self {
+        settings: FilterSettings {
+            sigma: Q16::ZERO,
+            lambda: Q16::ZERO,
+        },
+    };
+
+    /// Trains afresh in place on one grid (rate 1).
+    pub fn start(&mut self, settings: FilterSettings, features: &[[Cell; G]; G]) {
+        let _ = features;
+        self.settings = settings;
+    }
+
     /// A filter trained on one grid of features (rate 1).
     pub fn new(settings: FilterSettings, features: &[[Cell; G]; G]) -> Self {
         let _ = features;

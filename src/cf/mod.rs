@@ -3,6 +3,7 @@
 //! scale filter ([`scale`]), the integer port of the host's f64 `cf64` tracker
 //! (Staple-class: Bertinetto et al., CVPR 2016; DSST, Danelljan et al., BMVC 2014).
 
+pub mod colour;
 pub mod features;
 pub mod filter;
 pub mod scale;

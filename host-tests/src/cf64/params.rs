@@ -285,3 +285,46 @@ impl Params {
             .collect()
     }
 }
+
+impl Params {
+    /// The f64 settings of the core's integer tracker configured by `c`: its reference in
+    /// the tests. The integer tracker reads fHOG gradients of the luma, the 9 unsigned
+    /// channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on
+    /// every second pixel of the patch, learns on the detection's patch and samples, and
+    /// reads the scale between samples without a window over them.
+    pub fn of_core(c: &rbtrack::tracker::CfConfig) -> Self {
+        let q = |v: rbtrack::Q16| v.to_f64();
+        let step = q(c.scale.step);
+        Self {
+            cell: c.cell,
+            padding: q(c.padding),
+            hog: Hog::Unsigned9,
+            grey: true,
+            luma_gradient: true,
+            sigma: q(c.sigma),
+            lambda: q(c.lambda),
+            cf_rate: q(c.cf_rate),
+            colour_bits: 3,
+            colour_step: c.cell / 2,
+            colour_rate: q(c.colour_rate),
+            inner_padding: q(c.inner_padding),
+            merge: q(c.merge),
+            scales: 8,
+            scale_step: step,
+            scale_sigma: q(c.scale.sigma),
+            scale_rate: q(c.scale_rate),
+            scale_area: f64::from(c.scale.area),
+            scale_cell: c.scale.cell,
+            scale_hog: Hog::Unsigned9,
+            scale_lambda: q(c.scale.lambda),
+            scale_limit: q(c.max_scale_change).ln() / step.ln(),
+            scale_window: false,
+            scale_interpolate: c.scale.interpolate,
+            learn_above: q(c.learn_above),
+            uncertain_below: q(c.uncertain_below),
+            lost_below: q(c.lost_below),
+            fresh_patch: false,
+            ..Self::default()
+        }
+    }
+}

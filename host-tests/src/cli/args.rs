@@ -255,6 +255,8 @@ pub enum TrackerChoice {
     Both,
     /// The f64 correlation-filter tracker.
     Cf64,
+    /// The core's correlation-filter tracker.
+    Cf,
     /// The three, over the same decoded frames.
     All,
 }
@@ -267,6 +269,7 @@ impl TrackerChoice {
             Self::Pf => vec![TrackerKind::Pf],
             Self::Both => TrackerKind::ALL.to_vec(),
             Self::Cf64 => vec![TrackerKind::Cf64],
+            Self::Cf => vec![TrackerKind::Cf],
             Self::All => vec![TrackerKind::Rbpf, TrackerKind::Pf, TrackerKind::Cf64],
         }
     }

@@ -8,7 +8,7 @@ use super::report::{
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
-    cf64_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
+    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
     fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::{Camera, VirtualCamera};
@@ -103,6 +103,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
                     tracker,
                     config,
                     cf64,
+                    cf: cf_for(tracker),
                     start,
                 });
             }

@@ -37,7 +37,7 @@ use crate::draw::{self, Rgb};
 use crate::paper;
 use args::{ConfigArgs, PaperArgs};
 use indicatif::{ProgressBar, ProgressStyle};
-use rbtrack::tracker::{Config, Variant};
+use rbtrack::tracker::{CfConfig, Config, Variant};
 use serde::Serialize;
 use std::fmt;
 use std::io::{self, Write};
@@ -93,6 +93,8 @@ pub enum TrackerKind {
     Pf,
     /// The f64 correlation-filter tracker (Staple class, [`crate::cf64`]).
     Cf64,
+    /// The core's correlation-filter tracker, in integers.
+    Cf,
 }
 
 impl TrackerKind {
@@ -105,6 +107,7 @@ impl TrackerKind {
             Self::Rbpf => "rbpf",
             Self::Pf => "pf",
             Self::Cf64 => "cf64",
+            Self::Cf => "cf",
         }
     }
 
@@ -113,7 +116,7 @@ impl TrackerKind {
         match self {
             Self::Rbpf => Some(Variant::Rbpf),
             Self::Pf => Some(Variant::ColourPf),
-            Self::Cf64 => None,
+            Self::Cf64 | Self::Cf => None,
         }
     }
 
@@ -133,6 +136,7 @@ impl TrackerKind {
             Self::Rbpf => draw::tracker_colour(2),
             Self::Pf => draw::tracker_colour(4),
             Self::Cf64 => draw::tracker_colour(3),
+            Self::Cf => draw::tracker_colour(1),
         }
     }
 
@@ -142,6 +146,7 @@ impl TrackerKind {
             Self::Rbpf => "yellow",
             Self::Pf => "cyan",
             Self::Cf64 => "magenta",
+            Self::Cf => "green",
         }
     }
 }
@@ -187,6 +192,11 @@ pub(crate) fn cf64_for(
         TrackerKind::Cf64 => overrides.cf_params().map(Some).map_err(fail),
         _ => Ok(None),
     }
+}
+
+/// The core correlation-filter tracker's settings, for its runs; `None` for the others.
+pub(crate) fn cf_for(tracker: TrackerKind) -> Option<CfConfig> {
+    (tracker == TrackerKind::Cf).then(CfConfig::default)
 }
 
 /// The tracker a configuration asks for (`variant`), if it names one.

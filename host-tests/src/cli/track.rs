@@ -7,7 +7,7 @@ use super::runs::{
     self, box_line, check_init, create_parent, write_overlay, RunResult, RunSpec, Start,
 };
 use super::{
-    cf64_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
+    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
     fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::parse_motions;
@@ -78,6 +78,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
         tracker,
         config: config_for(&overrides, tracker, seed)?,
         cf64: cf64_for(&overrides, tracker)?,
+        cf: cf_for(tracker),
         start: Start::GIVEN,
     };
     let format = args.raw.map_or(args.format, |raw| raw.format);
