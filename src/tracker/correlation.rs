@@ -51,8 +51,9 @@ pub struct CfConfig {
     /// Width of the translation filter's desired response: this share of the target's
     /// `sqrt(w h)`, Q16.16 above 0.
     pub sigma: Q16,
-    /// Regulariser of the translation filter ([`FilterSettings::lambda`]).
-    pub lambda: Q16,
+    /// Regulariser of the translation filter, units of `2^-30` of a squared feature
+    /// ([`FilterSettings::lambda`]).
+    pub lambda: u32,
     /// Learning rate of the translation filter, Q16.16 in `[0, 1]`.
     pub cf_rate: Q16,
     /// Learning rate of the colour histograms, Q16.16 in `[0, 1]`.
@@ -82,7 +83,7 @@ impl CfConfig {
         padding: Q16::ZERO,
         cell: 0,
         sigma: Q16::ZERO,
-        lambda: Q16::ZERO,
+        lambda: 0,
         cf_rate: Q16::ZERO,
         colour_rate: Q16::ZERO,
         inner_padding: Q16::ZERO,
@@ -103,7 +104,7 @@ impl Default for CfConfig {
             padding: Q16::ONE,
             cell: 4,
             sigma: q(1.0 / 16.0),
-            lambda: q(1e-3),
+            lambda: 1_073_742,
             cf_rate: q(0.01),
             colour_rate: q(0.04),
             inner_padding: q(0.2),
@@ -137,7 +138,7 @@ impl CfConfig {
         )?;
         check(matches!(self.cell, 2 | 4 | 6 | 8), "cell")?;
         check(self.sigma > Q16::ZERO, "sigma")?;
-        check(self.lambda > Q16::ZERO, "lambda")?;
+        check(self.lambda > 0, "lambda")?;
         check(unit(self.cf_rate), "cf_rate")?;
         check(unit(self.colour_rate), "colour_rate")?;
         check(
@@ -292,7 +293,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             sigma,
             lambda: config.lambda,
         };
-        self.filter.start(settings, &self.cells);
+        self.filter.reset(settings, &self.cells);
         self.scale.start(config.scale, frame, centre, size);
         let grid = self.colour_grid(centre, &geometry);
         let still = (Q16::ZERO, Q16::ZERO);

@@ -302,7 +302,7 @@ impl Params {
             grey: true,
             luma_gradient: true,
             sigma: q(c.sigma),
-            lambda: q(c.lambda),
+            lambda: f64::from(c.lambda) / f64::from(1u32 << 30),
             cf_rate: q(c.cf_rate),
             colour_bits: 3,
             colour_step: c.cell / 2,
