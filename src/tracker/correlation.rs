@@ -112,7 +112,7 @@ impl Default for CfConfig {
             scale: ScaleSettings {
                 step: q(1.08),
                 sigma: q(0.25),
-                lambda: q(1e-3),
+                lambda: 4_294_967,
                 area: 512,
                 cell: 4,
                 interpolate: true,

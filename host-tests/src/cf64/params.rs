@@ -316,7 +316,7 @@ impl Params {
             scale_area: f64::from(c.scale.area),
             scale_cell: c.scale.cell,
             scale_hog: Hog::Unsigned9,
-            scale_lambda: q(c.scale.lambda),
+            scale_lambda: f64::from(c.scale.lambda) / 2f64.powi(32),
             scale_limit: q(c.max_scale_change).ln() / step.ln(),
             scale_window: false,
             scale_interpolate: c.scale.interpolate,
