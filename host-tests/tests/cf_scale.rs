@@ -4,6 +4,7 @@
 //! interpolated. The scene is the reference's own: a textured disc grown by 1.06, 1.1 and
 //! 0.92.
 
+use rbtrack::cf::features::{extract, Sampling, CHANNELS};
 use rbtrack::cf::scale::{ScaleFilter, ScaleSettings};
 use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageView, Rgb888};
@@ -170,31 +171,74 @@ fn on_the_same_features_both_answer_alike() {
     assert!(worst_f < 5e-5, "factor {worst_f}");
 }
 
+/// `extract`'s features of the `S` samples of factors `factors`, as the integer filter takes
+/// them (its Q16.16 arithmetic; the cells cover the model's first 20 of 22 px, as the
+/// reference's).
+fn integer_rows(factors: &[Q16], rgb: &[u8]) -> Vec<[i16; S]> {
+    let mut rows = vec![[0i16; S]; 25 * 9];
+    let mut cells = [[0i16; CHANNELS]; 25];
+    for (s, &f) in factors.iter().enumerate() {
+        let ext = i64::from(Q16::from_f64(SIZE.0).saturating_mul(f).to_bits());
+        let (c, w) = (
+            Q16::from_f64(CENTRE.0),
+            Q16::from_bits((ext * 20 / 22) as i32),
+        );
+        let at = c.saturating_add(Q16::from_bits((ext * -2 / 44) as i32));
+        let sampling = Sampling {
+            cx: at,
+            cy: at,
+            width: w,
+            height: w,
+            cols: 5,
+            rows: 5,
+            cell: 4,
+        };
+        extract(&view(rgb), &sampling, &mut cells);
+        for (d, row) in rows.iter_mut().enumerate() {
+            row[s] = cells[d / 9][1 + d % 9];
+        }
+    }
+    rows
+}
+
 /// End to end, each filter sampling the frame with its own features: the factors agree
-/// within 0.005.
+/// within 0.01 (5.95e-3 measured, at 0.92). The difference is the features' (fHOG bins
+/// tip over with sub-LSB moves of the samples: `extract` on the same boxes in f64 rather
+/// than Q16.16 moves the factors by 2.3e-3): the reference's maths on `extract`'s
+/// features agree with the integer filter within 5e-5 (5.9e-6 measured).
 #[test]
-#[ignore = "needs rbtrack::cf::features::extract (branch cf-feat), a stub on this branch"]
 fn on_the_frame_both_find_the_same_scale() {
     let base = frame(30.0);
     let mut want = reference::ScaleFilter::new(params(), &img(&base), CENTRE, SIZE);
     let mut got = ScaleFilter::<S>::new(settings(), &view(&base), q16(CENTRE), q16(SIZE));
-    let mut worst = 0.0f64;
+    // The reference's maths on the integer features.
+    let mut same = want.clone();
+    let factors = *got.factors();
+    same.learn(&spectra(&integer_rows(&factors, &base)), same.middle(), 1.0);
+    let (mut worst, mut worst_maths) = (0.0f64, 0.0f64);
     for (step, g) in [1.0, 1.06, 1.1, 0.92, 1.03, 1.0, 0.96, 1.08]
         .into_iter()
         .enumerate()
     {
         let rgb = frame(30.0 * g);
         let z = want.sample(&img(&rgb), CENTRE, SIZE);
-        let r = want.response(&z);
-        let (i, factor) = read(&want, &r);
+        let (i, factor) = read(&want, &want.response(&z));
+        let zi = spectra(&integer_rows(&factors, &rgb));
+        let (j, maths) = read(&same, &same.response(&zi));
         let found = got.respond(&view(&rgb), q16(CENTRE), q16(SIZE)).to_f64();
-        println!("step {step}, grown {g}: factor {factor:.5} / {found:.5}");
+        println!("step {step}, grown {g}: factor {factor:.5} / {found:.5} ({maths:.5})");
         worst = worst.max((found - factor).abs());
+        worst_maths = worst_maths.max((found - maths).abs());
         if step >= 3 {
             want.learn(&z, i, 0.2);
+            same.learn(&zi, j, 0.2);
             got.learn(Q16::from_f64(0.2));
         }
     }
-    println!("largest factor difference {worst:.2e}");
-    assert!(worst < 0.005, "factor {worst}");
+    println!("largest factor differences: {worst:.2e}, on the same features {worst_maths:.2e}");
+    assert!(worst < 0.01, "factor {worst}");
+    assert!(
+        worst_maths < 5e-5,
+        "factor on the same features {worst_maths}"
+    );
 }
