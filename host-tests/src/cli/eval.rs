@@ -8,8 +8,8 @@ use super::report::{
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
-    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
-    fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
+    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir,
+    emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::{Camera, VirtualCamera};
 use crate::cf64::cost::Operations;

@@ -7,8 +7,8 @@ use super::runs::{
     self, box_line, check_init, create_parent, write_overlay, RunResult, RunSpec, Start,
 };
 use super::{
-    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
-    fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
+    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir,
+    emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::parse_motions;
 use crate::loss::LossReport;
