@@ -31,6 +31,7 @@ use crate::cf::filter::{Filter, FilterSettings};
 use crate::cf::scale::{ScaleFilter, ScaleSettings};
 use crate::fixed::Q16;
 use crate::image::{Binning, ImageView, PixelFormat};
+use crate::profile::{CfStageCycles, CycleCounter, NoCounter, Stopwatch};
 use crate::rect::Rect;
 use crate::window::Ellipse;
 use core::marker::PhantomData;
@@ -312,11 +313,25 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
     }
 
     /// Tracks one frame (of the size the tracker started on: a frame of another size is
-    /// read clamped to its edges).
+    /// read clamped to its edges). An unstarted tracker returns its estimate unchanged.
     pub fn step<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
+        self.step_profiled(frame, NoCounter).0
+    }
+
+    /// [`CfTracker::step`], reading `counter` at each stage boundary.
+    pub fn step_profiled<P: PixelFormat, C: CycleCounter>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        counter: C,
+    ) -> (Estimate, CfStageCycles) {
+        let mut watch = Stopwatch::start(counter);
+        let mut cycles = CfStageCycles::default();
+        if self.config.cell == 0 {
+            return (self.estimate, cycles);
+        }
         let c = self.config;
         let previous = self.centre;
-        let found = self.detect(frame, previous);
+        let found = self.detect(frame, previous, &mut watch, &mut cycles);
         self.centre = found.found;
         let confidence = found.peak.max(Q16::ZERO).min(Q16::ONE);
         let status = if confidence < c.lost_below {
@@ -332,6 +347,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             .respond(frame, self.centre, self.size)
             .max(Q16::ONE.saturating_div(c.max_scale_change))
             .min(c.max_scale_change);
+        cycles.scale = watch.lap();
         let old_size = self.size;
         let f = self
             .size
@@ -361,6 +377,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             self.size = size;
             self.scale.learn(c.scale_rate);
         }
+        cycles.learn = watch.lap();
         let velocity = (
             self.centre.0.saturating_sub(previous.0),
             self.centre.1.saturating_sub(previous.1),
@@ -378,19 +395,23 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             confidence,
             status,
         };
-        self.estimate
+        (self.estimate, cycles)
     }
 
     /// Searches the region around `centre` for the target at its current size.
-    fn detect<P: PixelFormat>(
+    fn detect<P: PixelFormat, C: CycleCounter>(
         &mut self,
         frame: &ImageView<'_, P>,
         centre: (Q16, Q16),
+        watch: &mut Stopwatch<C>,
+        cycles: &mut CfStageCycles,
     ) -> Detection {
         let c = self.config;
         let geometry = self.geometry();
         self.sample_cells(frame, centre, &geometry);
+        cycles.features = watch.lap();
         self.filter.respond(&self.cells, &mut self.response);
+        cycles.filter = watch.lap();
         let grid = self.colour_grid(centre, &geometry);
         self.map.build::<Bn, P, B>(frame, &grid, &self.colour);
 
@@ -454,6 +475,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
                 .max(Q16::ZERO)
                 .min(last(self.frame_size.1)),
         );
+        cycles.colour = watch.lap();
         Detection {
             moved: (
                 found
@@ -526,7 +548,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
 
     /// Patch px in colour samples: `2G` samples over `G cell` px.
     fn to_samples(&self, v: Q16) -> Q16 {
-        Q16::saturate(v.to_bits() as i64 * 2 / self.config.cell as i64)
+        let px = v.to_bits() as i64 * 2;
+        Q16::saturate(px.checked_div(self.config.cell as i64).unwrap_or(0))
     }
 
     /// A box of `size` patch px moved by `moved` patch px from the region's centre, in
