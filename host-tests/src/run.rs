@@ -292,7 +292,7 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
 }
 
 /// Cells a side of the host's correlation-filter tracker.
-pub const CF_GRID: usize = 32;
+pub const CF_GRID: usize = 16;
 /// Its scales.
 pub const CF_SCALES: usize = 8;
 
@@ -325,7 +325,9 @@ impl<Bn: Binning, const B: usize> Run for CfRunner<Bn, B> {
         })
     }
 
-    fn camera_moved(&mut self, _motion: &CameraMotion) {}
+    fn camera_moved(&mut self, motion: &CameraMotion) {
+        self.tracker.camera_moved(motion);
+    }
 
     fn estimate(&self) -> Estimate {
         *self.tracker.estimate()

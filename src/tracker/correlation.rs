@@ -24,7 +24,7 @@
 //! the feature grid (`20 G^2` bytes), the colour map (`4 (2G + 1)^2` bytes) and the scale
 //! filter; `examples/budget.rs` reports it.
 
-use super::{ConfigError, Estimate, Status};
+use super::{CameraMotion, ConfigError, Estimate, Status};
 use crate::cf::colour::{ColourMap, ColourModel, Grid, SampleBox};
 use crate::cf::features::{extract, Cell, Sampling, CHANNELS};
 use crate::cf::filter::{Filter, FilterSettings};
@@ -396,6 +396,41 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             status,
         };
         (self.estimate, cycles)
+    }
+
+    /// Moves the target with the picture (a pan/tilt head's command, an IMU's reading): the
+    /// centre as [`CameraMotion::point`] moves it, clamped into the frame, and the size
+    /// as [`CameraMotion::length`] scales it, within the size bounds. The models stay as
+    /// they are.
+    pub fn camera_moved(&mut self, motion: &CameraMotion) {
+        if self.config.cell == 0 {
+            return;
+        }
+        let (x, y) = motion.point(self.centre.0, self.centre.1);
+        let last = |n: i32| Q16::from_int(n - 1);
+        self.centre = (
+            x.max(Q16::ZERO).min(last(self.frame_size.0)),
+            y.max(Q16::ZERO).min(last(self.frame_size.1)),
+        );
+        let f = motion
+            .length(self.size.0)
+            .saturating_div(self.base.0)
+            .max(self.factor_bounds.0)
+            .min(self.factor_bounds.1);
+        self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
+        let half = |v: Q16| Q16::from_bits(v.to_bits() / 2);
+        let e = self.estimate;
+        self.estimate = Estimate {
+            ellipse: Ellipse::new(
+                self.centre.0,
+                self.centre.1,
+                half(self.size.0),
+                half(self.size.1),
+            ),
+            vx: motion.length(e.vx),
+            vy: motion.length(e.vy),
+            ..e
+        };
     }
 
     /// Searches the region around `centre` for the target at its current size.

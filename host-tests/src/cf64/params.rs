@@ -287,15 +287,17 @@ impl Params {
 }
 
 impl Params {
-    /// The f64 settings of the core's integer tracker configured by `c`: its reference in
+    /// The f64 settings of the core's integer tracker configured by `c` on a `grid x grid`
+    /// grid of cells: its reference in
     /// the tests. The integer tracker reads fHOG gradients of the luma, the 9 unsigned
     /// channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on
     /// every second pixel of the patch, learns on the detection's patch and samples, and
     /// reads the scale between samples without a window over them.
-    pub fn of_core(c: &rbtrack::tracker::CfConfig) -> Self {
+    pub fn of_core(c: &rbtrack::tracker::CfConfig, grid: usize) -> Self {
         let q = |v: rbtrack::Q16| v.to_f64();
         let step = q(c.scale.step);
         Self {
+            grid,
             cell: c.cell,
             padding: q(c.padding),
             hog: Hog::Unsigned9,

@@ -257,7 +257,7 @@ pub enum TrackerChoice {
     Cf64,
     /// The core's correlation-filter tracker.
     Cf,
-    /// The three, over the same decoded frames.
+    /// The four, over the same decoded frames.
     All,
 }
 
@@ -270,7 +270,12 @@ impl TrackerChoice {
             Self::Both => TrackerKind::ALL.to_vec(),
             Self::Cf64 => vec![TrackerKind::Cf64],
             Self::Cf => vec![TrackerKind::Cf],
-            Self::All => vec![TrackerKind::Rbpf, TrackerKind::Pf, TrackerKind::Cf64],
+            Self::All => vec![
+                TrackerKind::Rbpf,
+                TrackerKind::Pf,
+                TrackerKind::Cf64,
+                TrackerKind::Cf,
+            ],
         }
     }
 }
