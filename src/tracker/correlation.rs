@@ -643,3 +643,115 @@ fn parabola_peak(l: i64, c: i64, r: i64) -> Q16 {
         .max(-Q16::HALF)
         .min(Q16::HALF)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::{Gray8, Luma64, Rgb8x8x8};
+    use std::vec;
+    use std::vec::Vec;
+
+    type Small = CfTracker<Luma64, 64, 16, 8>;
+
+    /// A 96 x 72 grey frame: a textured 16 x 20 px block at `(x0, 26)` on a darker ramp.
+    fn frame(x0: usize) -> Vec<u8> {
+        let (w, h) = (96, 72);
+        let mut buf: Vec<u8> = (0..w * h).map(|i| (40 + (i % w) / 4) as u8).collect();
+        for y in 26..46 {
+            for x in x0..x0 + 16 {
+                buf[y * w + x] = if (x - x0) / 4 % 2 == (y / 5) % 2 {
+                    230
+                } else {
+                    150
+                };
+            }
+        }
+        buf
+    }
+
+    #[test]
+    fn follows_a_moving_block() {
+        let first = frame(20);
+        let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+        let mut tracker =
+            Small::new(CfConfig::default(), &view, Rect::new(20, 26, 16, 20)).unwrap();
+        for x0 in (22..50).step_by(2) {
+            let buf = frame(x0);
+            let e = tracker.step(&ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap());
+            let cx = e.ellipse.cx.to_f64();
+            assert!((cx - (x0 as f64 + 7.5)).abs() < 1.5, "x0 {x0}: centre {cx}");
+            assert_eq!(e.status, Status::Tracking);
+        }
+    }
+
+    #[test]
+    fn start_refuses_bad_settings_and_boxes_and_keeps_the_tracker() {
+        let buf = frame(20);
+        let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+        let mut tracker = Small::unstarted();
+        let bad = CfConfig {
+            merge: Q16::from_int(2),
+            ..CfConfig::default()
+        };
+        let good = CfConfig::default();
+        let cases = [
+            (
+                bad,
+                Rect::new(20, 26, 16, 20),
+                ConfigError::OutOfRange("merge"),
+            ),
+            (good, Rect::new(20, 26, 3, 20), ConfigError::InitialTooSmall),
+            (
+                good,
+                Rect::new(100, 26, 16, 20),
+                ConfigError::InitialOutside,
+            ),
+        ];
+        for (config, init, error) in cases {
+            assert_eq!(tracker.start(config, &view, init), Err(error));
+            assert_eq!(tracker.config().cell, 0, "left unstarted");
+        }
+        // Unstarted, a step changes nothing.
+        let before = *tracker.estimate();
+        assert_eq!(tracker.step(&view), before);
+        assert_eq!(tracker.estimate().status, Status::Lost);
+    }
+
+    #[test]
+    fn a_camera_motion_moves_the_target_with_the_picture() {
+        let buf = frame(20);
+        let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+        let mut tracker =
+            Small::new(CfConfig::default(), &view, Rect::new(20, 26, 16, 20)).unwrap();
+        let (cx, cy) = (tracker.estimate().ellipse.cx, tracker.estimate().ellipse.cy);
+        tracker.camera_moved(&CameraMotion::shift(Q16::from_int(5), Q16::from_int(-3)));
+        let e = tracker.estimate().ellipse;
+        assert_eq!((e.cx, e.cy), (cx + Q16::from_int(5), cy - Q16::from_int(3)));
+        // The picture moved with the camera: the block 5 px right and 3 px up.
+        let moved = frame(25);
+        let shifted: Vec<u8> = moved[3 * 96..]
+            .iter()
+            .copied()
+            .chain(vec![40; 3 * 96])
+            .collect();
+        let view2 = ImageView::<Gray8>::new(&shifted, 96, 72, 96).unwrap();
+        let e = tracker.step(&view2);
+        assert!(
+            (e.ellipse.cx.to_f64() - 32.5).abs() < 1.5,
+            "{:?}",
+            e.ellipse
+        );
+        assert!(
+            (e.ellipse.cy.to_f64() - 32.5).abs() < 1.5,
+            "{:?}",
+            e.ellipse
+        );
+    }
+
+    #[test]
+    fn the_default_tracker_fits_in_128_kib() {
+        let size = core::mem::size_of::<CfTracker<Rgb8x8x8, 512, 16, 8>>();
+        std::println!("CfTracker<Rgb8x8x8, 512, 16, 8>: {size} B");
+        assert!(size <= 128 * 1024, "{size} B");
+    }
+}
