@@ -101,7 +101,7 @@ impl TrackerKind {
     /// The core's two particle filters, in the order tables and plots list them.
     pub const ALL: [TrackerKind; 2] = [TrackerKind::Rbpf, TrackerKind::Pf];
 
-    /// Command-line name: `rbpf`, `pf` or `cf64`.
+    /// Command-line name: `rbpf`, `pf`, `cf64` or `cf`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Rbpf => "rbpf",
@@ -128,7 +128,7 @@ impl TrackerKind {
         }
     }
 
-    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan, cf64 magenta (from
+    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan, cf64 magenta, cf orange (from
     /// [`draw::TRACKER_COLOURS`]; red and blue would vanish on the synthetic target's red
     /// shirt and blue trousers). Plots colour their curves in series order instead.
     pub fn colour(self) -> Rgb {
@@ -136,7 +136,7 @@ impl TrackerKind {
             Self::Rbpf => draw::tracker_colour(2),
             Self::Pf => draw::tracker_colour(4),
             Self::Cf64 => draw::tracker_colour(3),
-            Self::Cf => draw::tracker_colour(1),
+            Self::Cf => draw::tracker_colour(5),
         }
     }
 
@@ -146,7 +146,7 @@ impl TrackerKind {
             Self::Rbpf => "yellow",
             Self::Pf => "cyan",
             Self::Cf64 => "magenta",
-            Self::Cf => "green",
+            Self::Cf => "orange",
         }
     }
 }
