@@ -201,7 +201,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         let config = specs
             .iter()
             .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
-            .map(|s| (s.tracker.name(), settings_json(&s.config, s.cf64.as_ref())))
+            .map(|s| (s.tracker.name(), settings_json(s)))
             .collect();
         let doc = EvalJson {
             data_dir: args.data.display().to_string(),
@@ -313,11 +313,7 @@ fn header(
         .iter()
         .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
     {
-        text += &format!(
-            "config {}: {}\n",
-            s.tracker,
-            config_summary(&s.config, s.cf64.as_ref())
-        );
+        text += &format!("config {}: {}\n", s.tracker, config_summary(s));
         if let Some(params) = &s.cf64 {
             text += &format!(
                 "cf64 estimated Cortex-M4 instructions a frame (cf64::cost): {}\n",

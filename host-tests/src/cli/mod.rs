@@ -209,21 +209,53 @@ pub(crate) fn configured_seed(overrides: &Overrides) -> u64 {
     overrides.value::<u64>("seed").unwrap_or(1)
 }
 
-/// A run's settings in JSON form: the cf64 tracker's where it has them, else the core's
-/// configuration.
-pub(crate) fn settings_json(config: &Config, cf64: Option<&cf64::Params>) -> serde_json::Value {
-    match cf64 {
-        Some(params) => params.to_json(),
-        None => serde_json::to_value(crate::config_fields::ConfigJson(config)).unwrap_or_default(),
+/// A run's settings in JSON form: the correlation-filter trackers' where it runs one,
+/// else the core's configuration.
+pub(crate) fn settings_json(spec: &runs::RunSpec) -> serde_json::Value {
+    match (&spec.cf64, &spec.cf) {
+        (Some(params), _) => params.to_json(),
+        (None, Some(c)) => cf_json(c),
+        (None, None) => {
+            serde_json::to_value(crate::config_fields::ConfigJson(&spec.config)).unwrap_or_default()
+        }
     }
 }
 
+/// The core correlation-filter tracker's settings, numbers as decimals.
+fn cf_json(c: &CfConfig) -> serde_json::Value {
+    let q = |v: rbtrack::Q16| v.to_f64();
+    serde_json::json!({
+        "grid": crate::run::CF_GRID,
+        "scales": crate::run::CF_SCALES,
+        "padding": q(c.padding),
+        "cell": c.cell,
+        "sigma": q(c.sigma),
+        "lambda": f64::from(c.lambda) / f64::from(1u32 << 30),
+        "cf_rate": q(c.cf_rate),
+        "colour_rate": q(c.colour_rate),
+        "inner_padding": q(c.inner_padding),
+        "merge": q(c.merge),
+        "scale_step": q(c.scale.step),
+        "scale_sigma": q(c.scale.sigma),
+        "scale_lambda": f64::from(c.scale.lambda) / 2f64.powi(32),
+        "scale_area": c.scale.area,
+        "scale_cell": c.scale.cell,
+        "scale_interpolate": c.scale.interpolate,
+        "scale_rate": q(c.scale_rate),
+        "max_scale_change": q(c.max_scale_change),
+        "learn_above": q(c.learn_above),
+        "uncertain_below": q(c.uncertain_below),
+        "lost_below": q(c.lost_below),
+    })
+}
+
 /// The settings of a run that differ from its tracker's defaults, as `FIELD=VALUE`s, or
-/// `defaults`.
-pub(crate) fn config_summary(config: &Config, cf64: Option<&cf64::Params>) -> String {
-    let changed = match cf64 {
-        Some(params) => params.changed(),
-        None => crate::config_fields::changed_fields(config),
+/// `defaults` (the core correlation-filter tracker runs at its defaults).
+pub(crate) fn config_summary(spec: &runs::RunSpec) -> String {
+    let changed = match (&spec.cf64, &spec.cf) {
+        (Some(params), _) => params.changed(),
+        (None, Some(_)) => Vec::new(),
+        (None, None) => crate::config_fields::changed_fields(&spec.config),
     };
     if changed.is_empty() {
         "defaults".to_string()

@@ -150,7 +150,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             seed,
             format: format.name(),
             box_origin: origin.name(),
-            config: settings_json(&run.spec.config, run.spec.cf64.as_ref()),
+            config: settings_json(&run.spec),
         };
         let text = serde_json::to_string(&doc).map_err(fail)?;
         emit(out, &format!("{text}\n"))?;
@@ -161,7 +161,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
                 "{name}: {frames} frames, {width}x{height} px, {format}; {tracker}, {} particles, \
                  seed {seed}; config: {}; init {} ({})\n\n",
                 args.config.particles,
-                config_summary(&run.spec.config, run.spec.cf64.as_ref()),
+                config_summary(&run.spec),
                 box_line(&shown),
                 origin.name()
             ),
