@@ -222,6 +222,7 @@ impl<const B: usize> ColourModel<B> {
 /// The object probability of the samples of a grid, as an integral image.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ColourMap {
+    /// Samples a side (0 before the first build).
     side: usize,
     /// `integral[r * STRIDE + c]`: sum of the probabilities (Q0.16) above row `r` and left
     /// of column `c` (`<= 64^2 * 65535 < 2^28`).
@@ -235,10 +236,11 @@ impl Default for ColourMap {
 }
 
 impl ColourMap {
-    /// An empty map: every box's mean 0.
+    /// An empty map, every bit zero (a `static` of one takes no flash): every box's mean
+    /// 0.
     pub const fn new() -> Self {
         Self {
-            side: 1,
+            side: 0,
             integral: [0; STRIDE * STRIDE],
         }
     }
@@ -273,6 +275,9 @@ impl ColourMap {
 
     /// The mean probability over the samples of `b`, Q16.16 in `[0, 1]`.
     pub fn mean(&self, b: &SampleBox) -> Q16 {
+        if self.side == 0 {
+            return Q16::ZERO;
+        }
         let ((x0, x1), (y0, y1)) = b.ranges(self.side);
         let at = |r: usize, c: usize| self.integral.get(r * STRIDE + c).copied().unwrap_or(0);
         let sum = (at(y1, x1) + at(y0, x0)).wrapping_sub(at(y0, x1) + at(y1, x0));

@@ -75,6 +75,7 @@ const RESPONSE_BITS: u32 = 20;
 
 /// The filter's settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FilterSettings {
     /// Width of the desired response, cells, Q16.16, clamped to `[0.01, 10]`.
     pub sigma: Q16,

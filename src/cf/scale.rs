@@ -69,6 +69,7 @@ const POW_BITS: u32 = 30;
 
 /// The scale filter's settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ScaleSettings {
     /// Ratio between neighbouring scales, Q16.16, limited to `(1, 1.5]`.
     pub step: Q16,
