@@ -12,8 +12,9 @@
 
 Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.legacy`,
 default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
-`cv2.CamShift`) and `rbtrack track` (RBPF, colour PF and the f64 correlation-filter
-tracker cf64, over each of `--seeds`; `--rbtrack-trackers` picks them) on every sequence,
+`cv2.CamShift`) and `rbtrack track` (RBPF, colour PF, the f64 correlation-filter tracker
+cf64 and the core's integer one cf, over each of `--seeds`; `--rbtrack-trackers` picks
+them) on every sequence,
 and prints one table: success AUC, precision at 20 px and tracking-only milliseconds per
 frame, with rbtrack's time as a ratio to each tracker's, all measured in
 this run.
@@ -337,9 +338,9 @@ def main():
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("--in-process", action="store_true",
                         help="run rbtrack through its Python module (pip install ./python); "
-                             "the cf64 tracker, host only, still runs through the binary")
-    parser.add_argument("--rbtrack-trackers", default="rbpf,pf,cf64",
-                        help="rbtrack's trackers, comma-separated (default rbpf,pf,cf64)")
+                             "the correlation-filter trackers still run through the binary")
+    parser.add_argument("--rbtrack-trackers", default="rbpf,pf,cf64,cf",
+                        help="rbtrack's trackers, comma-separated (default rbpf,pf,cf64,cf)")
     args = parser.parse_args()
 
     data = Path(args.data)
@@ -367,8 +368,8 @@ def main():
     peers = {name: makers[name] for name in chosen}
     starts = STARTS if args.starts == "spatial" else STARTS[:1]
     ours = [t.strip() for t in args.rbtrack_trackers.split(",") if t.strip()]
-    if not ours or not set(ours) <= {"rbpf", "pf", "cf64"}:
-        sys.exit("compare_opencv.py: --rbtrack-trackers: choose from rbpf, pf, cf64")
+    if not ours or not set(ours) <= {"rbpf", "pf", "cf64", "cf"}:
+        sys.exit("compare_opencv.py: --rbtrack-trackers: choose from rbpf, pf, cf64, cf")
     names = [f"rbtrack-{t}" for t in ours] + list(peers)
     rows = {n: [] for n in names}  # per sequence: (sequence, auc, prec20, ms)
     by_start = {n: {s[0]: [] for s in starts} for n in names}  # per start: AUC per sequence
@@ -385,7 +386,7 @@ def main():
                 for start in starts:
                     per_start = []
                     for seed in seeds:
-                        if args.in_process and tracker != "cf64":
+                        if args.in_process and tracker in ("rbpf", "pf"):
                             init = to_zero_based(start_box(first, start), zero_based)
                             boxes, ms = run_rbtrack_in_process(
                                 frames, init, tracker, seed, args.particles

@@ -30,7 +30,11 @@
 //! that may read anything) and the getters
 //! `estimate` (and its box), `model`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
-//! `size_covariance` and `scale_per_row`; and the pan/tilt controller's `PanTilt::new`
+//! `size_covariance` and `scale_per_row`; the correlation-filter tracker
+//! (`CfTracker<Rgb8x8x8, 512, 16, 8>`, `<Luma64, 64, 8, 4>` and `<Yuv8x8x4, 256, 32, 16>`,
+//! every pixel format): `unstarted`, `start` (on a configuration and a box it cannot see),
+//! `step`, `step_profiled`, `estimate` and `config`; and the pan/tilt controller's
+//! `PanTilt::new`
 //! (with settings it cannot see), `step` on those estimates and `command`; and the FFT's
 //! `forward`, `inverse` (8 to 64 points), `forward_2d`, `inverse_2d` (16 x 16 to 64 x 64)
 //! and `normalise` on samples it cannot see.
@@ -57,7 +61,7 @@ mod proof {
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::CycleCounter;
     use rbtrack::rect::Rect;
-    use rbtrack::tracker::{CameraMotion, Config, Tracker, Variant};
+    use rbtrack::tracker::{CameraMotion, CfConfig, CfTracker, Config, Tracker, Variant};
     use rbtrack::window::Ellipse;
 
     /// The frames' bytes, as bytes and as the 32-bit words a DMA engine fills.
@@ -147,6 +151,43 @@ mod proof {
         }
     }
 
+    /// The correlation-filter tracker's public life on frames of format `P`, with a
+    /// configuration and boxes the optimiser cannot see: started in place, stepped,
+    /// profiled, restarted, read.
+    fn exercise_cf<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelFormat>(
+        tracker: &mut CfTracker<Bn, B, G, S>,
+    ) {
+        let Some(frame) = any_frame::<P>() else {
+            return;
+        };
+        black_box(tracker.step(&frame));
+        let config = black_box(CfConfig::default());
+        black_box(
+            tracker
+                .start(config, &frame, Rect::from(any_ellipse()))
+                .is_ok(),
+        );
+        for _ in 0..black_box(2) {
+            black_box(tracker.step(&frame));
+            black_box(tracker.step_profiled(&frame, AnyCounter));
+            black_box(tracker.estimate());
+            black_box(tracker.config());
+        }
+    }
+
+    /// [`exercise_cf`] for every pixel format.
+    fn every_format_cf<Bn: Binning, const B: usize, const G: usize, const S: usize>(
+        tracker: &mut CfTracker<Bn, B, G, S>,
+    ) {
+        exercise_cf::<Bn, B, G, S, Gray8>(tracker);
+        exercise_cf::<Bn, B, G, S, Rgb565Le>(tracker);
+        exercise_cf::<Bn, B, G, S, Rgb565Be>(tracker);
+        exercise_cf::<Bn, B, G, S, Rgb888>(tracker);
+        exercise_cf::<Bn, B, G, S, Bgr888>(tracker);
+        exercise_cf::<Bn, B, G, S, Yuyv>(tracker);
+        exercise_cf::<Bn, B, G, S, Uyvy>(tracker);
+    }
+
     /// The 1-D FFTs of `N` points and the 2-D FFTs of `N x N`, both ways, on samples the
     /// optimiser cannot see.
     fn fourier<const N: usize>() {
@@ -179,7 +220,13 @@ mod proof {
         let mut coarse = Tracker::<Rgb8x8x4, 200, 256>::unstarted();
         let mut chroma = Tracker::<Yuv8x8x4, 1, 256>::unstarted();
         let mut grey = Tracker::<Luma64, 8, 64>::unstarted();
+        let mut cf = CfTracker::<Rgb8x8x8, 512, 16, 8>::unstarted();
+        let mut cf_small = CfTracker::<Luma64, 64, 8, 4>::unstarted();
+        let mut cf_large = CfTracker::<Yuv8x8x4, 256, 32, 16>::unstarted();
         loop {
+            every_format_cf(&mut cf);
+            every_format_cf(&mut cf_small);
+            every_format_cf(&mut cf_large);
             every_format(&mut colour);
             every_format(&mut coarse);
             every_format(&mut chroma);

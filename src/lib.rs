@@ -97,6 +97,8 @@ pub mod window;
 
 // Cues.
 #[doc(hidden)]
+pub mod cf;
+#[doc(hidden)]
 pub mod colour;
 #[doc(hidden)]
 pub mod cue;

@@ -71,6 +71,34 @@ impl StageCycles {
     }
 }
 
+/// Counts spent in each stage of one step of the correlation-filter tracker
+/// ([`crate::tracker::CfTracker`]), in the caller's counter units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CfStageCycles {
+    /// Resampling the search region and its cells' features.
+    pub features: u32,
+    /// The translation filter's response.
+    pub filter: u32,
+    /// The colour map and the merged response's peak.
+    pub colour: u32,
+    /// The scale filter's samples and response.
+    pub scale: u32,
+    /// The three models' learning.
+    pub learn: u32,
+}
+
+impl CfStageCycles {
+    /// Sum of all stages.
+    pub fn total(&self) -> u32 {
+        self.features
+            .saturating_add(self.filter)
+            .saturating_add(self.colour)
+            .saturating_add(self.scale)
+            .saturating_add(self.learn)
+    }
+}
+
 /// Times consecutive stages: each [`Stopwatch::lap`] returns the counts since the last.
 pub(crate) struct Stopwatch<C: CycleCounter> {
     counter: C,

@@ -3,6 +3,7 @@
 //! - [`scene`]: the deterministic QVGA RGB565 scene, integer-only.
 //! - [`run`]: the trackers' configuration, the run over the scene, the checksum of the
 //!   estimates and the tightest pixel-to-bin loop (the pixel-visit bound's unit cost).
+//! - [`cf`]: the same for the correlation-filter tracker, with its own checksum.
 //! - `board` (Cortex-M only): the SysTick and DWT counters, the SysTick calibration, the
 //!   static frame buffer, the stack high-water mark, the examples' exit and panic report,
 //!   and the no-panic proof's panic handler.
@@ -13,5 +14,6 @@
 
 #[cfg(target_os = "none")]
 pub mod board;
+pub mod cf;
 pub mod run;
 pub mod scene;

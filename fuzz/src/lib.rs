@@ -8,10 +8,13 @@
 //! the rejection paths and the per-frame path quickly.
 
 use arbitrary::Arbitrary;
+use rbtrack::cf::scale::ScaleSettings;
 use rbtrack::fixed::Q16;
+use rbtrack::rect::Rect;
 use rbtrack::resample::Scheme;
 use rbtrack::tracker::{
-    max_pixels_per_step, Config, CueMix, Estimate, Readout, SizeMeasurement, Variant,
+    max_pixels_per_step, CfConfig, Config, CueMix, Estimate, Readout, SizeMeasurement, Status,
+    Variant,
 };
 use rbtrack::window::Ellipse;
 
@@ -484,4 +487,185 @@ pub fn check_estimate(
         pixels_visited as u64 <= bound,
         "{pixels_visited} pixels, N = {n}, bound {bound}"
     );
+}
+
+/// A correlation-filter tracker configuration: [`CfConfig::default`], with each field that
+/// is `Some` replaced by any value (in range or not).
+#[derive(Arbitrary, Debug, Clone)]
+#[allow(missing_docs)]
+pub struct CfConfigSpec {
+    pub padding: Option<Q>,
+    pub cell: Option<Dim>,
+    pub sigma: Option<Q>,
+    pub lambda: Option<u32>,
+    pub cf_rate: Option<Q>,
+    pub colour_rate: Option<Q>,
+    pub inner_padding: Option<Q>,
+    pub merge: Option<Q>,
+    pub scale_step: Option<Q>,
+    pub scale_sigma: Option<Q>,
+    pub scale_lambda: Option<u32>,
+    pub scale_area: Option<u32>,
+    pub scale_cell: Option<Dim>,
+    pub scale_interpolate: Option<bool>,
+    pub scale_rate: Option<Q>,
+    pub max_scale_change: Option<Q>,
+    pub learn_above: Option<Q>,
+    pub uncertain_below: Option<Q>,
+    pub lost_below: Option<Q>,
+}
+
+impl CfConfigSpec {
+    /// The configuration.
+    pub fn build(&self) -> CfConfig {
+        let mut c = CfConfig::default();
+        let set = |field: &mut Q16, v: Option<Q>| {
+            if let Some(v) = v {
+                *field = v.get();
+            }
+        };
+        set(&mut c.padding, self.padding);
+        if let Some(v) = self.cell {
+            c.cell = v.get();
+        }
+        set(&mut c.sigma, self.sigma);
+        if let Some(v) = self.lambda {
+            c.lambda = v;
+        }
+        set(&mut c.cf_rate, self.cf_rate);
+        set(&mut c.colour_rate, self.colour_rate);
+        set(&mut c.inner_padding, self.inner_padding);
+        set(&mut c.merge, self.merge);
+        let s: &mut ScaleSettings = &mut c.scale;
+        set(&mut s.step, self.scale_step);
+        set(&mut s.sigma, self.scale_sigma);
+        if let Some(v) = self.scale_lambda {
+            s.lambda = v;
+        }
+        if let Some(v) = self.scale_area {
+            s.area = v;
+        }
+        if let Some(v) = self.scale_cell {
+            s.cell = v.get();
+        }
+        if let Some(v) = self.scale_interpolate {
+            s.interpolate = v;
+        }
+        set(&mut c.scale_rate, self.scale_rate);
+        set(&mut c.max_scale_change, self.max_scale_change);
+        set(&mut c.learn_above, self.learn_above);
+        set(&mut c.uncertain_below, self.uncertain_below);
+        set(&mut c.lost_below, self.lost_below);
+        c
+    }
+}
+
+/// An initial box: absolute Q16.16 values, or placed relative to a frame.
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum RectSpec {
+    /// Any corner and size, the rails included.
+    Absolute {
+        /// Left edge.
+        x: Q,
+        /// Top edge.
+        y: Q,
+        /// Width.
+        w: Q,
+        /// Height.
+        h: Q,
+    },
+    /// Centre at `(fx, fy) / 255` of the frame, size `w x h` px.
+    Relative {
+        /// Horizontal position, 0 (left) to 255 (right).
+        fx: u8,
+        /// Vertical position, 0 (top) to 255 (bottom).
+        fy: u8,
+        /// Width, px.
+        w: u8,
+        /// Height, px.
+        h: u8,
+    },
+}
+
+impl RectSpec {
+    /// The box for a frame of `width x height` px.
+    pub fn get(self, width: usize, height: usize) -> Rect {
+        match self {
+            RectSpec::Absolute { x, y, w, h } => Rect::from_q16(x.get(), y.get(), w.get(), h.get()),
+            RectSpec::Relative { fx, fy, w, h } => {
+                let corner = |f: u8, side: usize, size: u8| {
+                    f as i32 * side.saturating_sub(1).min(1 << 14) as i32 / 255 - size as i32 / 2
+                };
+                Rect::new(
+                    corner(fx, width, w),
+                    corner(fy, height, h),
+                    w as i32,
+                    h as i32,
+                )
+            }
+        }
+    }
+}
+
+/// Whether `CfTracker::start` must accept `init` in a `width x height` frame (given a
+/// valid configuration): both sides at least 4 px, and the centre `x + (w-1)/2`,
+/// `y + (h-1)/2` in `[0, width-1] x [0, height-1]`. Computed exactly on the raw Q16.16
+/// values (twice the centre against twice the bounds), not through `Rect::centre`.
+pub fn cf_init_is_valid(init: &Rect, width: usize, height: usize) -> bool {
+    let four = 4_i64 << 16;
+    let one = 1_i64 << 16;
+    // 0 <= 2 x + w - 1 <= 2 (n - 1), Q16.16 bits.
+    let inside = |corner: Q16, size: Q16, side: usize| {
+        let twice = 2 * corner.to_bits() as i64 + size.to_bits() as i64 - one;
+        let last = (side as i64 - 1).min(i16::MAX as i64) << 16;
+        twice >= 0 && twice <= 2 * last
+    };
+    init.w.to_bits() as i64 >= four
+        && init.h.to_bits() as i64 >= four
+        && inside(init.x, init.w, width)
+        && inside(init.y, init.h, height)
+}
+
+/// Checks the documented guarantees of a correlation-filter step (or camera motion) when
+/// the tracker started on a `width x height` frame: centre inside that frame, half-axes
+/// positive, confidence in `[0, 1]`, and the status the confidence and `config`'s
+/// thresholds give (with `check_status`).
+pub fn check_cf_estimate(
+    e: &Estimate,
+    config: &CfConfig,
+    width: usize,
+    height: usize,
+    check_status: bool,
+) {
+    let el = e.ellipse;
+    let max_x = Q16::from_int(width as i32 - 1);
+    let max_y = Q16::from_int(height as i32 - 1);
+    assert!(
+        el.cx >= Q16::ZERO && el.cx <= max_x,
+        "cx {:?} in {width}x{height}",
+        el.cx
+    );
+    assert!(
+        el.cy >= Q16::ZERO && el.cy <= max_y,
+        "cy {:?} in {width}x{height}",
+        el.cy
+    );
+    for h in [el.hx, el.hy] {
+        assert!(h > Q16::ZERO, "half-axis {h:?} in {width}x{height}");
+    }
+    assert!(
+        e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE,
+        "confidence {:?}",
+        e.confidence
+    );
+    if check_status {
+        let status = if e.confidence < config.lost_below {
+            Status::Lost
+        } else if e.confidence < config.uncertain_below {
+            Status::Uncertain
+        } else {
+            Status::Tracking
+        };
+        assert_eq!(e.status, status, "confidence {:?}", e.confidence);
+    }
 }

@@ -14,8 +14,11 @@ use rbtrack::image::{
     Binning, Gray8, ImageView, Luma64, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Rgb8x8x4, Rgb8x8x8,
     Uyvy, Yuv8x8x4, Yuyv,
 };
-use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Tracker, Variant};
+use rbtrack::tracker::{
+    CameraMotion, CfConfig, CfTracker, Config, ConfigError, Estimate, Tracker, Variant,
+};
 use rbtrack::window::Ellipse;
+use rbtrack::Rect;
 use std::fmt;
 use std::time::{Duration, Instant};
 
@@ -31,6 +34,9 @@ pub struct Options {
     pub shape: Shape,
     /// With settings, the f64 correlation-filter tracker runs instead of the core's.
     pub cf64: Option<cf64::Params>,
+    /// With settings, the core's correlation-filter tracker runs instead of a particle
+    /// filter.
+    pub cf: Option<CfConfig>,
 }
 
 impl Options {
@@ -40,6 +46,7 @@ impl Options {
             config: Config::new(variant),
             shape: Shape::default(),
             cf64: None,
+            cf: None,
         }
     }
 }
@@ -247,6 +254,14 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
         .map_err(RunError::Cf64)?;
         return Ok(Box::new(Cf64Runner { tracker }));
     }
+    if let Some(config) = options.cf {
+        return match options.shape.bins {
+            Bins::Rgb8x8x8 => CfRunner::<Rgb8x8x8, 512>::start(config, frame, init),
+            Bins::Rgb8x8x4 => CfRunner::<Rgb8x8x4, 256>::start(config, frame, init),
+            Bins::Yuv8x8x4 => CfRunner::<Yuv8x8x4, 256>::start(config, frame, init),
+            Bins::Luma64 => CfRunner::<Luma64, 64>::start(config, frame, init),
+        };
+    }
     fn boxed<Bn: Binning, const N: usize, const B: usize>(
         config: Config,
         frame: &Frame,
@@ -273,6 +288,53 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
         Bins::Rgb8x8x4 => by_count!(Rgb8x8x4, 256),
         Bins::Yuv8x8x4 => by_count!(Yuv8x8x4, 256),
         Bins::Luma64 => by_count!(Luma64, 64),
+    }
+}
+
+/// Cells a side of the host's correlation-filter tracker.
+pub const CF_GRID: usize = 16;
+/// Its scales.
+pub const CF_SCALES: usize = 8;
+
+/// The core's correlation-filter tracker behind [`Run`], on the heap (it is large).
+struct CfRunner<Bn: Binning, const B: usize> {
+    tracker: Box<CfTracker<Bn, B, CF_GRID, CF_SCALES>>,
+}
+
+impl<Bn: Binning, const B: usize> CfRunner<Bn, B> {
+    fn start(config: CfConfig, frame: &Frame, init: &BBox) -> Result<Box<dyn Run>, RunError> {
+        let mut tracker = Box::new(CfTracker::unstarted());
+        let init = Rect::from(ellipse_of(init));
+        with_view!(frame, v => tracker.start(config, &v, init)).map_err(RunError::Config)?;
+        Ok(Box::new(Self { tracker }))
+    }
+}
+
+impl<Bn: Binning, const B: usize> Run for CfRunner<Bn, B> {
+    fn step(&mut self, frame: &Frame) -> Result<Step, RunError> {
+        let (estimate, elapsed) = with_view!(frame, v => {
+            let start = Instant::now();
+            let e = self.tracker.step(&v);
+            (e, start.elapsed())
+        });
+        Ok(Step {
+            estimate,
+            bbox: bbox_of(&estimate),
+            elapsed,
+            pixels_visited: 0,
+        })
+    }
+
+    fn camera_moved(&mut self, motion: &CameraMotion) {
+        self.tracker.camera_moved(motion);
+    }
+
+    fn estimate(&self) -> Estimate {
+        *self.tracker.estimate()
+    }
+
+    fn scale_per_row(&self) -> Q16 {
+        Q16::ZERO
     }
 }
 

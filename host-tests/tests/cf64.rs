@@ -12,6 +12,7 @@ use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence};
 fn options(params: Params) -> Options {
     Options {
         cf64: Some(params),
+        cf: None,
         ..Options::new(Variant::Rbpf)
     }
 }

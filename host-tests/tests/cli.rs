@@ -1522,7 +1522,8 @@ fn cf64_tracker_in_track_and_eval() {
         .iter()
         .map(|m| m["tracker"].as_str().unwrap())
         .collect();
-    assert_eq!(trackers, ["rbpf", "pf", "cf64"]);
+    assert_eq!(trackers, ["rbpf", "pf", "cf64", "cf"]);
+    assert_eq!(doc["config"]["cf"]["grid"], 16);
     assert_eq!(doc["config"]["cf64"]["merge"], 0.4);
     assert!(doc["cf64_cost"]["instructions"].as_u64().unwrap() > 1_000_000);
 

@@ -82,6 +82,7 @@
 mod camera;
 mod config;
 mod contrast;
+mod correlation;
 mod estimate;
 mod model;
 mod particle;
@@ -92,6 +93,7 @@ mod weigh;
 pub use crate::resample::Scheme;
 pub use camera::CameraMotion;
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
+pub use correlation::{CfConfig, CfTracker};
 pub use estimate::{Estimate, Status};
 pub use model::TargetModel;
 pub use particle::Particle;

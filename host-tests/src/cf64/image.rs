@@ -43,6 +43,15 @@ impl Patch {
         Patch { width, height, rgb }
     }
 
+    /// The patch in grey: every channel of a pixel its luma.
+    pub fn greyed(&self) -> Patch {
+        Patch {
+            width: self.width,
+            height: self.height,
+            rgb: self.grey().into_iter().map(|l| [l; 3]).collect(),
+        }
+    }
+
     /// Luma `0.299 R + 0.587 G + 0.114 B` per pixel, in `[0, 255]`.
     pub fn grey(&self) -> Vec<f64> {
         self.rgb

@@ -20,6 +20,9 @@ pub struct Params {
     pub hog: Hog,
     /// A grey channel (the cell's mean) beside them.
     pub grey: bool,
+    /// fHOG gradients of the luma alone, not of the strongest colour channel: what a grey
+    /// or YUV camera gives, and what the integer tracker reads.
+    pub luma_gradient: bool,
     /// Width of the desired response: this share of the target's `sqrt(w h)`, in cells.
     pub sigma: f64,
     /// Regulariser of the translation filter.
@@ -97,6 +100,7 @@ impl Default for Params {
             padding: 1.0,
             hog: Hog::Fhog27,
             grey: true,
+            luma_gradient: false,
             sigma: 1.0 / 16.0,
             lambda: 1e-3,
             cf_rate: 0.01,
@@ -159,6 +163,7 @@ pub static FIELDS: &[Field] = field_table! {
     padding,
     hog,
     grey,
+    luma_gradient,
     sigma,
     lambda,
     cf_rate,
@@ -278,5 +283,50 @@ impl Params {
                 v => format!("cf.{}={v}", f.name),
             })
             .collect()
+    }
+}
+
+impl Params {
+    /// The f64 settings of the core's integer tracker configured by `c` on a `grid x grid`
+    /// grid of cells: its reference in
+    /// the tests. The integer tracker reads fHOG gradients of the luma, the 9 unsigned
+    /// channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on
+    /// every second pixel of the patch, learns on the detection's patch and samples, and
+    /// reads the scale between samples without a window over them.
+    pub fn of_core(c: &rbtrack::tracker::CfConfig, grid: usize) -> Self {
+        let q = |v: rbtrack::Q16| v.to_f64();
+        let step = q(c.scale.step);
+        Self {
+            grid,
+            cell: c.cell,
+            padding: q(c.padding),
+            hog: Hog::Unsigned9,
+            grey: true,
+            luma_gradient: true,
+            sigma: q(c.sigma),
+            lambda: f64::from(c.lambda) / f64::from(1u32 << 30),
+            cf_rate: q(c.cf_rate),
+            colour_bits: 3,
+            colour_step: c.cell / 2,
+            colour_rate: q(c.colour_rate),
+            inner_padding: q(c.inner_padding),
+            merge: q(c.merge),
+            scales: 8,
+            scale_step: step,
+            scale_sigma: q(c.scale.sigma),
+            scale_rate: q(c.scale_rate),
+            scale_area: f64::from(c.scale.area),
+            scale_cell: c.scale.cell,
+            scale_hog: Hog::Unsigned9,
+            scale_lambda: f64::from(c.scale.lambda) / 2f64.powi(32),
+            scale_limit: q(c.max_scale_change).ln() / step.ln(),
+            scale_window: false,
+            scale_interpolate: c.scale.interpolate,
+            learn_above: q(c.learn_above),
+            uncertain_below: q(c.uncertain_below),
+            lost_below: q(c.lost_below),
+            fresh_patch: false,
+            ..Self::default()
+        }
     }
 }

@@ -34,6 +34,8 @@ pub struct ScaleParams {
     pub lambda: f64,
     /// Weigh the samples by a Hann window over the scales.
     pub window: bool,
+    /// fHOG gradients of the luma alone.
+    pub luma: bool,
 }
 
 /// The scale filter.
@@ -97,6 +99,10 @@ impl ScaleFilter {
         for (&f, &w) in self.factors.iter().zip(&self.window) {
             let extent = ((size.0 * f).max(2.0), (size.1 * f).max(2.0));
             let patch = frame.patch(centre, extent, self.model);
+            let patch = match self.params.luma {
+                true => patch.greyed(),
+                false => patch,
+            };
             let feat = features(&patch, self.params.cell, self.params.hog, false);
             columns.push(feat.data.into_iter().map(|v| v * w).collect::<Vec<_>>());
         }
@@ -196,6 +202,7 @@ mod tests {
             hog: Hog::Fhog31,
             lambda: 1e-2,
             window: true,
+            luma: false,
         };
         let base = frame(30.0);
         fn img(rgb: &[u8]) -> RgbImage<'_> {

@@ -167,7 +167,7 @@ impl Tracker {
         let geometry = Geometry::new(&params, size);
         let window = cosine_window(params.grid, params.grid);
         let patch = frame.patch(centre, geometry.region, (geometry.side, geometry.side));
-        let x = features(&patch, params.cell, params.hog, params.grey).windowed(&window);
+        let x = patch_features(&params, &patch).windowed(&window);
         let sigma =
             (geometry.target.0 * geometry.target.1).sqrt() * params.sigma / params.cell as f64;
         let filter = Filter::new(&x, sigma, params.lambda);
@@ -217,7 +217,7 @@ impl Tracker {
     }
 
     fn features(&self, patch: &Patch) -> Features {
-        features(patch, self.params.cell, self.params.hog, self.params.grey).windowed(&self.window)
+        patch_features(&self.params, patch).windowed(&self.window)
     }
 
     /// Searches the region around `centre` for the target at its current size.
@@ -522,6 +522,16 @@ fn parabola_peak(at: usize, n: usize, value: impl Fn(usize) -> f64) -> f64 {
     }
 }
 
+/// The translation filter's features of `patch`, gradients of its luma with
+/// `luma_gradient`.
+fn patch_features(params: &Params, patch: &Patch) -> Features {
+    let p = params;
+    match p.luma_gradient {
+        true => features(&patch.greyed(), p.cell, p.hog, p.grey),
+        false => features(patch, p.cell, p.hog, p.grey),
+    }
+}
+
 fn scale_params(params: &Params) -> ScaleParams {
     ScaleParams {
         scales: params.scales,
@@ -532,5 +542,6 @@ fn scale_params(params: &Params) -> ScaleParams {
         hog: params.scale_hog,
         lambda: params.scale_lambda,
         window: params.scale_window,
+        luma: params.luma_gradient,
     }
 }

@@ -195,8 +195,8 @@ pub struct TrackArgs {
     /// or a raw frame dump (with --raw)
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// Tracker: rbpf (Rao-Blackwellised PF), pf (colour PF) or cf64 (the f64
-    /// correlation-filter tracker) [default: rbpf, or the configuration's variant]
+    /// Tracker: rbpf (Rao-Blackwellised PF), pf (colour PF), cf (the correlation-filter
+    /// tracker) or cf64 (its f64 reference) [default: rbpf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
     pub tracker: Option<TrackerKind>,
     /// Seed of the tracker's random draws [default: 1, or the configuration's seed]
@@ -255,7 +255,9 @@ pub enum TrackerChoice {
     Both,
     /// The f64 correlation-filter tracker.
     Cf64,
-    /// The three, over the same decoded frames.
+    /// The core's correlation-filter tracker.
+    Cf,
+    /// The four, over the same decoded frames.
     All,
 }
 
@@ -267,7 +269,13 @@ impl TrackerChoice {
             Self::Pf => vec![TrackerKind::Pf],
             Self::Both => TrackerKind::ALL.to_vec(),
             Self::Cf64 => vec![TrackerKind::Cf64],
-            Self::All => vec![TrackerKind::Rbpf, TrackerKind::Pf, TrackerKind::Cf64],
+            Self::Cf => vec![TrackerKind::Cf],
+            Self::All => vec![
+                TrackerKind::Rbpf,
+                TrackerKind::Pf,
+                TrackerKind::Cf64,
+                TrackerKind::Cf,
+            ],
         }
     }
 }
@@ -297,8 +305,8 @@ pub struct EvalArgs {
     /// Folder of sequence folders (OTB layout each)
     #[arg(value_name = "DATA_DIR")]
     pub data: PathBuf,
-    /// Trackers: rbpf, pf, both (the particle filters), cf64 (the f64 correlation-filter
-    /// tracker) or all [default: rbpf, or the configuration's variant]
+    /// Trackers: rbpf, pf, both (the particle filters), cf (the correlation-filter tracker),
+    /// cf64 (its f64 reference) or all [default: rbpf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
     pub tracker: Option<TrackerChoice>,
     /// Seed of the trackers' random draws [default: 1, or the configuration's seed]

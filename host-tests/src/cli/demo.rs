@@ -34,6 +34,7 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
             tracker,
             config,
             cf64: None,
+            cf: None,
             start: Start::GIVEN,
         }
     });

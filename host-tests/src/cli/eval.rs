@@ -8,8 +8,8 @@ use super::report::{
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
-    cf64_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
-    fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
+    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir,
+    emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::{Camera, VirtualCamera};
 use crate::cf64::cost::Operations;
@@ -103,6 +103,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
                     tracker,
                     config,
                     cf64,
+                    cf: cf_for(tracker),
                     start,
                 });
             }
@@ -200,7 +201,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         let config = specs
             .iter()
             .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
-            .map(|s| (s.tracker.name(), settings_json(&s.config, s.cf64.as_ref())))
+            .map(|s| (s.tracker.name(), settings_json(s)))
             .collect();
         let doc = EvalJson {
             data_dir: args.data.display().to_string(),
@@ -312,11 +313,7 @@ fn header(
         .iter()
         .filter(|s| s.config.seed == seeds[0] && s.start == Start::GIVEN)
     {
-        text += &format!(
-            "config {}: {}\n",
-            s.tracker,
-            config_summary(&s.config, s.cf64.as_ref())
-        );
+        text += &format!("config {}: {}\n", s.tracker, config_summary(s));
         if let Some(params) = &s.cf64 {
             text += &format!(
                 "cf64 estimated Cortex-M4 instructions a frame (cf64::cost): {}\n",

@@ -3,7 +3,7 @@
 
 use super::args::FollowArgs;
 use super::runs::status_name;
-use super::{cf64_for, config_for, create_dir, emit, fail, overrides, wrote, Failure};
+use super::{cf64_for, cf_for, config_for, create_dir, emit, fail, overrides, wrote, Failure};
 use crate::draw::{self, Series, GREEN};
 use crate::follow::{self, FollowFrame, FollowSummary, BAND_SHARE, FIELD_OF_VIEW_X, JUMP_SHARE};
 use crate::metrics::BBox;
@@ -42,6 +42,7 @@ pub fn follow(args: &FollowArgs, out: &mut dyn Write) -> Result<(), Failure> {
         config,
         shape: args.config.shape(),
         cf64,
+        cf: cf_for(args.tracker),
     };
     let gif = !args.no_gif;
     let mut pictures = Pictures::default();

@@ -37,7 +37,7 @@ use crate::draw::{self, Rgb};
 use crate::paper;
 use args::{ConfigArgs, PaperArgs};
 use indicatif::{ProgressBar, ProgressStyle};
-use rbtrack::tracker::{Config, Variant};
+use rbtrack::tracker::{CfConfig, Config, Variant};
 use serde::Serialize;
 use std::fmt;
 use std::io::{self, Write};
@@ -93,18 +93,21 @@ pub enum TrackerKind {
     Pf,
     /// The f64 correlation-filter tracker (Staple class, [`crate::cf64`]).
     Cf64,
+    /// The core's correlation-filter tracker, in integers.
+    Cf,
 }
 
 impl TrackerKind {
     /// The core's two particle filters, in the order tables and plots list them.
     pub const ALL: [TrackerKind; 2] = [TrackerKind::Rbpf, TrackerKind::Pf];
 
-    /// Command-line name: `rbpf`, `pf` or `cf64`.
+    /// Command-line name: `rbpf`, `pf`, `cf64` or `cf`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Rbpf => "rbpf",
             Self::Pf => "pf",
             Self::Cf64 => "cf64",
+            Self::Cf => "cf",
         }
     }
 
@@ -113,7 +116,7 @@ impl TrackerKind {
         match self {
             Self::Rbpf => Some(Variant::Rbpf),
             Self::Pf => Some(Variant::ColourPf),
-            Self::Cf64 => None,
+            Self::Cf64 | Self::Cf => None,
         }
     }
 
@@ -125,7 +128,7 @@ impl TrackerKind {
         }
     }
 
-    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan, cf64 magenta (from
+    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan, cf64 magenta, cf orange (from
     /// [`draw::TRACKER_COLOURS`]; red and blue would vanish on the synthetic target's red
     /// shirt and blue trousers). Plots colour their curves in series order instead.
     pub fn colour(self) -> Rgb {
@@ -133,6 +136,7 @@ impl TrackerKind {
             Self::Rbpf => draw::tracker_colour(2),
             Self::Pf => draw::tracker_colour(4),
             Self::Cf64 => draw::tracker_colour(3),
+            Self::Cf => draw::tracker_colour(5),
         }
     }
 
@@ -142,6 +146,7 @@ impl TrackerKind {
             Self::Rbpf => "yellow",
             Self::Pf => "cyan",
             Self::Cf64 => "magenta",
+            Self::Cf => "orange",
         }
     }
 }
@@ -189,6 +194,11 @@ pub(crate) fn cf64_for(
     }
 }
 
+/// The core correlation-filter tracker's settings, for its runs; `None` for the others.
+pub(crate) fn cf_for(tracker: TrackerKind) -> Option<CfConfig> {
+    (tracker == TrackerKind::Cf).then(CfConfig::default)
+}
+
 /// The tracker a configuration asks for (`variant`), if it names one.
 pub(crate) fn configured_tracker(overrides: &Overrides) -> Option<TrackerKind> {
     overrides.value::<Variant>("variant").map(TrackerKind::of)
@@ -199,21 +209,53 @@ pub(crate) fn configured_seed(overrides: &Overrides) -> u64 {
     overrides.value::<u64>("seed").unwrap_or(1)
 }
 
-/// A run's settings in JSON form: the cf64 tracker's where it has them, else the core's
-/// configuration.
-pub(crate) fn settings_json(config: &Config, cf64: Option<&cf64::Params>) -> serde_json::Value {
-    match cf64 {
-        Some(params) => params.to_json(),
-        None => serde_json::to_value(crate::config_fields::ConfigJson(config)).unwrap_or_default(),
+/// A run's settings in JSON form: the correlation-filter trackers' where it runs one,
+/// else the core's configuration.
+pub(crate) fn settings_json(spec: &runs::RunSpec) -> serde_json::Value {
+    match (&spec.cf64, &spec.cf) {
+        (Some(params), _) => params.to_json(),
+        (None, Some(c)) => cf_json(c),
+        (None, None) => {
+            serde_json::to_value(crate::config_fields::ConfigJson(&spec.config)).unwrap_or_default()
+        }
     }
 }
 
+/// The core correlation-filter tracker's settings, numbers as decimals.
+fn cf_json(c: &CfConfig) -> serde_json::Value {
+    let q = |v: rbtrack::Q16| v.to_f64();
+    serde_json::json!({
+        "grid": crate::run::CF_GRID,
+        "scales": crate::run::CF_SCALES,
+        "padding": q(c.padding),
+        "cell": c.cell,
+        "sigma": q(c.sigma),
+        "lambda": f64::from(c.lambda) / f64::from(1u32 << 30),
+        "cf_rate": q(c.cf_rate),
+        "colour_rate": q(c.colour_rate),
+        "inner_padding": q(c.inner_padding),
+        "merge": q(c.merge),
+        "scale_step": q(c.scale.step),
+        "scale_sigma": q(c.scale.sigma),
+        "scale_lambda": f64::from(c.scale.lambda) / 2f64.powi(32),
+        "scale_area": c.scale.area,
+        "scale_cell": c.scale.cell,
+        "scale_interpolate": c.scale.interpolate,
+        "scale_rate": q(c.scale_rate),
+        "max_scale_change": q(c.max_scale_change),
+        "learn_above": q(c.learn_above),
+        "uncertain_below": q(c.uncertain_below),
+        "lost_below": q(c.lost_below),
+    })
+}
+
 /// The settings of a run that differ from its tracker's defaults, as `FIELD=VALUE`s, or
-/// `defaults`.
-pub(crate) fn config_summary(config: &Config, cf64: Option<&cf64::Params>) -> String {
-    let changed = match cf64 {
-        Some(params) => params.changed(),
-        None => crate::config_fields::changed_fields(config),
+/// `defaults` (the core correlation-filter tracker runs at its defaults).
+pub(crate) fn config_summary(spec: &runs::RunSpec) -> String {
+    let changed = match (&spec.cf64, &spec.cf) {
+        (Some(params), _) => params.changed(),
+        (None, Some(_)) => Vec::new(),
+        (None, None) => crate::config_fields::changed_fields(&spec.config),
     };
     if changed.is_empty() {
         "defaults".to_string()

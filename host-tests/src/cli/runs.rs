@@ -9,7 +9,7 @@ use crate::metrics::{BBox, Evaluation};
 use crate::pixels::Frame;
 use crate::run::{self, Options, RunError, Shape};
 use crate::sequence::GtOrigin;
-use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Status};
+use rbtrack::tracker::{CameraMotion, CfConfig, Config, ConfigError, Estimate, Status};
 use serde::Serialize;
 use std::path::Path;
 use std::time::Duration;
@@ -23,6 +23,8 @@ pub struct RunSpec {
     pub config: Config,
     /// The cf64 tracker's settings, checked, for its runs.
     pub cf64: Option<cf64::Params>,
+    /// The core correlation-filter tracker's settings, for its runs.
+    pub cf: Option<CfConfig>,
     /// Where its first box lies against the given one.
     pub start: Start,
 }
@@ -243,6 +245,7 @@ where
             config: r.spec.config,
             shape,
             cf64: r.spec.cf64,
+            cf: r.spec.cf,
         };
         let init = r.spec.start.apply(init);
         let runner = run::start(&options, &first, &init)

@@ -7,8 +7,8 @@ use super::runs::{
     self, box_line, check_init, create_parent, write_overlay, RunResult, RunSpec, Start,
 };
 use super::{
-    cf64_for, config_for, config_summary, configured_seed, configured_tracker, create_dir, emit,
-    fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
+    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir,
+    emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::parse_motions;
 use crate::loss::LossReport;
@@ -78,6 +78,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
         tracker,
         config: config_for(&overrides, tracker, seed)?,
         cf64: cf64_for(&overrides, tracker)?,
+        cf: cf_for(tracker),
         start: Start::GIVEN,
     };
     let format = args.raw.map_or(args.format, |raw| raw.format);
@@ -149,7 +150,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
             seed,
             format: format.name(),
             box_origin: origin.name(),
-            config: settings_json(&run.spec.config, run.spec.cf64.as_ref()),
+            config: settings_json(&run.spec),
         };
         let text = serde_json::to_string(&doc).map_err(fail)?;
         emit(out, &format!("{text}\n"))?;
@@ -160,7 +161,7 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
                 "{name}: {frames} frames, {width}x{height} px, {format}; {tracker}, {} particles, \
                  seed {seed}; config: {}; init {} ({})\n\n",
                 args.config.particles,
-                config_summary(&run.spec.config, run.spec.cf64.as_ref()),
+                config_summary(&run.spec),
                 box_line(&shown),
                 origin.name()
             ),

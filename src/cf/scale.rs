@@ -1,0 +1,717 @@
+//! The scale filter (DSST, Danelljan et al., BMVC 2014): a 1-D correlation filter over `S`
+//! scaled samples of the target, each described by its fHOG cells; the integer port of the
+//! host's `cf64::scale` with 9 unsigned channels of the luma and no window over the scales.
+//!
+//! Sample `s` is the target's box times `step^(mid - s)`, `mid = ceil(S / 2) - 1`,
+//! resampled to a model size fixed by the first box (area at most `area` px^2, each side
+//! at least `2 cell` px, at most [`MAX_CELLS`] cells) and described by the 9 unsigned fHOG
+//! channels of its cells: one column of `D` features. Per feature `d`, `X_d` is the 1-D
+//! transform of its row over the scales; the filter keeps
+//! `A_d <- (1 - eta) A_d + eta Y conj(X_d)` and `B <- (1 - eta) B + eta sum_d |X_d|^2`,
+//! `Y` the transform of a Gaussian over the scales (width `sqrt(S) sigma`) peaked at the
+//! sample of the target's size; new samples `Z` answer `IFFT(sum_d A_d Z_d / (B + lambda))`,
+//! peaked at the scale the target now has.
+//!
+//! # Fixed-point scales
+//! - Features: Q15 from [`features::extract`] (`|x| <= 2^15`), shifted to Q21.
+//! - Spectra `X_d`, `Z_d`: the transform of Q21 features, Q21, `|X| <= S 2^21 <= 2^27`: the
+//!   FFT never shifts a block that small (a block exponent would be undone, saturating).
+//! - Label: Q16 from [`exp_neg`] (peak 65,535), its spectrum `|Y| <= S 2^16`, Q16.
+//! - Numerator `A_d`: the Q37 products `Y conj(X_d)` rounded to Q17 (`>> 20`), `i32`,
+//!   `|A| <= S^2 2^17 <= 2^29`.
+//! - Denominator `B`: `sum_d |X_d|^2`, Q42, `i64`, `<= D S^2 2^42 < 2^62.2`; `lambda`
+//!   (Q0.32) raised to Q42.
+//! - `sum_d A_d Z_d`: each product Q38 floored to Q30 (`>> 8`), `<= 2^48`, the sum
+//!   `<= 2^56.2`, `i64` (accumulated saturating all the same).
+//! - Quotient by `B + lambda`: Q16 saturated to `i32` (in `i128`), inverse transform, the
+//!   block exponent applied: the response, Q16 (about 1 at the peak for the trained
+//!   samples). The label's peak of 65,535 rather than 65,536 costs 1.5e-5 of it.
+//!
+//! The size factor `step^x` of a fractional `x` is the integer power times the binomial
+//! series of `(1 + u)^f`, `u = step - 1 <= 1/2`, `0 <= f < 1`, 12 terms, in Q30: within
+//! 2 LSB of Q16.16 for `|x| <= 8` at the steps allowed (1.2 measured).
+//!
+//! Against the host's f64 filter on the same (Q15) features of its test scene, the
+//! responses agree within 2.6e-5 and the size factors within 5.2e-6; each on its own
+//! features of the frame, the factors within 6e-3, the features' difference
+//! (`host-tests/tests/cf_scale.rs`). Stack: 640 bytes of cells for one sample, a few
+//! hundred more; the filter itself is 37,088 bytes for `S = 8`.
+
+use super::features::{self, Cell, Sampling, CHANNELS};
+use crate::fft::{forward, inverse, Complex};
+use crate::fixed::Q16;
+use crate::image::{ImageView, PixelFormat};
+use crate::likelihood::exp_neg;
+
+/// Largest number of cells of a sample: 512 px^2 of 4 px cells.
+pub const MAX_CELLS: usize = 32;
+
+/// fHOG channels per cell the filter reads: the 9 unsigned ones (`Cell[1..10]`).
+pub const CELL_FEATURES: usize = CHANNELS - 1;
+
+/// Largest number of features of a sample, `D`.
+pub const MAX_FEATURES: usize = MAX_CELLS * CELL_FEATURES;
+
+/// Left shift of the Q15 features to Q21.
+const FEATURE_SHIFT: u32 = 6;
+
+/// Right shift of the Q37 products `Y conj(X)` to the numerator's Q17.
+const NUM_SHIFT: u32 = 20;
+
+/// Right shift of the Q38 products `A Z` to Q30.
+const SUM_SHIFT: u32 = 8;
+
+/// Left shift of a Q30 quotient by a Q42 denominator to Q16.
+const QUOTIENT_SHIFT: u32 = 16 + 42 - 30;
+
+/// Q30 fraction bits of the powers of the step.
+const POW_BITS: u32 = 30;
+
+/// The scale filter's settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ScaleSettings {
+    /// Ratio between neighbouring scales, Q16.16, limited to `(1, 1.5]`.
+    pub step: Q16,
+    /// Width of the desired response, times `sqrt(S)`, scales, Q16.16, limited to
+    /// `[1/256, 64]`.
+    pub sigma: Q16,
+    /// Regulariser, in 2^-32 of a feature squared (Q0.32: 1e-3 is 4,294,967).
+    pub lambda: u32,
+    /// Largest model area, px^2 (`1..=65,536`; the model has at most [`MAX_CELLS`] cells).
+    pub area: u32,
+    /// fHOG cell of the samples, px (`1..=8`).
+    pub cell: usize,
+    /// Read the scale between samples (the parabola through the peak and its neighbours).
+    pub interpolate: bool,
+}
+
+impl ScaleSettings {
+    /// Every field zero.
+    pub const UNSET: Self = Self {
+        step: Q16::ZERO,
+        sigma: Q16::ZERO,
+        lambda: 0,
+        area: 0,
+        cell: 0,
+        interpolate: false,
+    };
+
+    /// The settings limited to their ranges.
+    fn limited(self) -> Self {
+        Self {
+            step: self.step.clamp(
+                Q16::from_bits(Q16::ONE.to_bits() + 1),
+                Q16::from_ratio(3, 2),
+            ),
+            sigma: self.sigma.clamp(Q16::from_bits(1 << 8), Q16::from_int(64)),
+            area: self.area.clamp(1, 1 << 16),
+            cell: self.cell.clamp(1, 8),
+            ..self
+        }
+    }
+}
+
+/// The sampled grid: cells across and down, and the model size they lie in, px.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Grid {
+    cols: usize,
+    rows: usize,
+    /// Model width and height, px (`>= cols cell`, `>= rows cell`).
+    width: usize,
+    height: usize,
+}
+
+impl Grid {
+    /// The model of a first box of `size` px (Q16.16) as the host's: each side times
+    /// `min(1, sqrt(area / (w h)))`, floored, at least `2 cell`; `cell`-px cells of it from
+    /// its top left corner, at most [`MAX_CELLS`] (a longer side cut).
+    fn new(settings: &ScaleSettings, size: (Q16, Q16)) -> Self {
+        let one = Q16::ONE.to_bits() as u64;
+        let (w, h) = (
+            size.0.to_bits().max(1 << 16) as u64,
+            size.1.to_bits().max(1 << 16) as u64,
+        );
+        let area = settings.area as u64;
+        let side = |a: u64, b: u64| match (a * b) >> 32 > area {
+            // floor(a sqrt(area / (a b))) = floor(sqrt(area a / b))
+            true => (area * a).checked_div(b).unwrap_or(0).isqrt(),
+            false => a / one,
+        };
+        let min = 2 * settings.cell;
+        let (width, height) = (
+            (side(w, h) as usize).max(min),
+            (side(h, w) as usize).max(min),
+        );
+        let cols = width.checked_div(settings.cell).unwrap_or(0);
+        let rows = height.checked_div(settings.cell).unwrap_or(0);
+        let (cols, rows) = if cols * rows <= MAX_CELLS {
+            (cols, rows)
+        } else if cols >= rows {
+            let rows = rows.min(MAX_CELLS / 2);
+            (MAX_CELLS.checked_div(rows).unwrap_or(0), rows)
+        } else {
+            let cols = cols.min(MAX_CELLS / 2);
+            (cols, MAX_CELLS.checked_div(cols).unwrap_or(0))
+        };
+        // A side cut to fewer cells is as long as they are.
+        let fit = |side: usize, cells: usize| match side / settings.cell.max(1) == cells {
+            true => side,
+            false => cells * settings.cell,
+        };
+        Self {
+            cols,
+            rows,
+            width: fit(width, cols),
+            height: fit(height, rows),
+        }
+    }
+}
+
+/// The scale filter, `S` scales (a power of two, `2..=64`).
+///
+/// 37,088 bytes for `S = 8`: the numerator and the last samples' spectra,
+/// `MAX_FEATURES x S` complex each (18,432 bytes), and `S` values of the rest.
+#[derive(Clone, Debug)]
+pub struct ScaleFilter<const S: usize> {
+    settings: ScaleSettings,
+    grid: Grid,
+    /// Features in use, `D = cols rows 9 <= MAX_FEATURES`.
+    features: usize,
+    /// `1 / (2 (sqrt(S) sigma)^2)`, per scale squared, Q16.16.
+    cost: Q16,
+    /// Regulariser, Q42.
+    lambda: i64,
+    /// Size factor of sample `s`, Q16.16.
+    factors: [Q16; S],
+    /// `A_d`, Q17.
+    num: [[Complex; S]; MAX_FEATURES],
+    /// `B`, Q42.
+    den: [i64; S],
+    /// The last samples' spectra, Q21.
+    samples: [[Complex; S]; MAX_FEATURES],
+    /// The last response, Q16.
+    response: [i32; S],
+    /// The best of the last samples.
+    best: usize,
+}
+
+impl<const S: usize> ScaleFilter<S> {
+    /// A filter with nothing learnt, every bit zero.
+    pub const UNSET: Self = Self {
+        settings: ScaleSettings::UNSET,
+        grid: Grid {
+            cols: 0,
+            rows: 0,
+            width: 0,
+            height: 0,
+        },
+        features: 0,
+        cost: Q16::ZERO,
+        lambda: 0,
+        factors: [Q16::ZERO; S],
+        num: [[Complex::ZERO; S]; MAX_FEATURES],
+        den: [0; S],
+        samples: [[Complex::ZERO; S]; MAX_FEATURES],
+        response: [0; S],
+        best: 0,
+    };
+
+    /// The middle sample, factor 1: `ceil(S / 2) - 1`.
+    pub const MIDDLE: usize = S.div_ceil(2) - 1;
+
+    /// A filter for a target of `size` px (width, height, Q16.16) at `centre` (px,
+    /// Q16.16), trained on `frame` there.
+    pub fn new<P: PixelFormat>(
+        settings: ScaleSettings,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        size: (Q16, Q16),
+    ) -> Self {
+        let mut filter = Self::UNSET;
+        filter.start(settings, frame, centre, size);
+        filter
+    }
+
+    /// Trains afresh in place, as [`ScaleFilter::new`].
+    pub fn start<P: PixelFormat>(
+        &mut self,
+        settings: ScaleSettings,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        size: (Q16, Q16),
+    ) {
+        self.reset(settings, size);
+        self.sample(frame, centre, size);
+        self.learn_at(Self::MIDDLE, Q16::ONE);
+    }
+
+    /// A filter for a target of `size` px trained on the features `rows` as
+    /// [`ScaleFilter::new`] on a frame's: `rows[d][s]` is feature `d` (cell `d / 9`,
+    /// row-major, channel `1 + d % 9`) of sample `s`, Q15; missing rows count as zero.
+    pub fn from_features(settings: ScaleSettings, size: (Q16, Q16), rows: &[[i16; S]]) -> Self {
+        let mut filter = Self::UNSET;
+        filter.reset(settings, size);
+        filter.load(rows);
+        filter.learn_at(Self::MIDDLE, Q16::ONE);
+        filter
+    }
+
+    /// Samples the `S` scales of a target of `size` px at `centre` and returns the size
+    /// factor of the best, Q16.16 (1: unchanged); keeps the samples for
+    /// [`ScaleFilter::learn`].
+    pub fn respond<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        size: (Q16, Q16),
+    ) -> Q16 {
+        self.sample(frame, centre, size);
+        self.answer()
+    }
+
+    /// [`ScaleFilter::respond`] to the features `rows` (as [`ScaleFilter::from_features`]
+    /// takes them).
+    pub fn respond_features(&mut self, rows: &[[i16; S]]) -> Q16 {
+        self.load(rows);
+        self.answer()
+    }
+
+    /// Learns the samples of the last [`ScaleFilter::respond`] at `rate` (Q16.16 in
+    /// `[0, 1]`), the desired response peaked at the best of them.
+    pub fn learn(&mut self, rate: Q16) {
+        self.learn_at(self.best, rate);
+    }
+
+    /// The last response over the scales, Q16 (sample `s` at `s`).
+    pub fn response(&self) -> &[i32; S] {
+        &self.response
+    }
+
+    /// The size factor of each sample, Q16.16.
+    pub fn factors(&self) -> &[Q16; S] {
+        &self.factors
+    }
+
+    /// The features per sample, `D`.
+    pub fn features(&self) -> usize {
+        self.features
+    }
+
+    /// Takes `settings` and the model of a first box of `size` px, with nothing learnt,
+    /// in place.
+    fn reset(&mut self, settings: ScaleSettings, size: (Q16, Q16)) {
+        const {
+            assert!(
+                S.is_power_of_two() && S >= 2 && S <= 64,
+                "scale counts are powers of two from 2 to 64"
+            )
+        };
+        let settings = settings.limited();
+        let grid = Grid::new(&settings, size);
+        // 1 / (2 S sigma^2) in Q16.16: 2^47 / (S b^2), b = sigma's bits (2^8..=2^22).
+        let b = settings.sigma.to_bits() as u64;
+        let cost = (1u64 << 47).checked_div(S as u64 * b * b).unwrap_or(0);
+        for (s, f) in self.factors.iter_mut().enumerate() {
+            *f = pow(settings.step, Q16::from_int(Self::MIDDLE as i32 - s as i32));
+        }
+        self.settings = settings;
+        self.grid = grid;
+        self.features = (grid.cols * grid.rows * CELL_FEATURES).min(MAX_FEATURES);
+        self.cost = Q16::saturate(cost as i64);
+        self.lambda = (settings.lambda as i64) << 10;
+        self.num.fill([Complex::ZERO; S]);
+        self.den.fill(0);
+        self.samples.fill([Complex::ZERO; S]);
+        self.response.fill(0);
+        self.best = Self::MIDDLE;
+    }
+
+    /// The samples of a target of `size` px at `centre`, transformed.
+    fn sample<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        size: (Q16, Q16),
+    ) {
+        let Grid {
+            cols,
+            rows,
+            width,
+            height,
+        } = self.grid;
+        let cell = self.settings.cell;
+        let mut cells: [Cell; MAX_CELLS] = [[0; CHANNELS]; MAX_CELLS];
+        for (s, &f) in self.factors.iter().enumerate() {
+            let extent = |side: Q16| side.saturating_mul(f).max(Q16::from_int(2));
+            let (ew, eh) = (extent(size.0), extent(size.1));
+            // The cells cover the model's first `cols cell` px of `width`, as the host's.
+            let (sw, ox) = covered(ew, cols * cell, width);
+            let (sh, oy) = covered(eh, rows * cell, height);
+            let sampling = Sampling {
+                cx: centre.0.saturating_add(ox),
+                cy: centre.1.saturating_add(oy),
+                width: sw,
+                height: sh,
+                cols,
+                rows,
+                cell,
+            };
+            let n = (cols * rows).min(MAX_CELLS);
+            features::extract(frame, &sampling, cells.get_mut(..n).unwrap_or(&mut []));
+            for (row, c) in self.samples.chunks_exact_mut(CELL_FEATURES).zip(&cells) {
+                store(row, c.get(1..).unwrap_or(&[]), s);
+            }
+        }
+        self.transform();
+    }
+
+    /// Loads the features `rows` as the samples, transformed.
+    fn load(&mut self, rows: &[[i16; S]]) {
+        for (d, sample) in self.samples.iter_mut().enumerate() {
+            let row = rows.get(d).filter(|_| d < self.features);
+            for (s, x) in sample.iter_mut().enumerate() {
+                let v = row.and_then(|r| r.get(s)).copied().unwrap_or(0);
+                *x = Complex::new(i32::from(v) << FEATURE_SHIFT, 0);
+            }
+        }
+        self.transform();
+    }
+
+    /// Transforms the samples' rows over the scales, Q21.
+    fn transform(&mut self) {
+        for row in self.samples.iter_mut().take(self.features) {
+            let e = forward(row);
+            rescale(row, e);
+        }
+    }
+
+    /// The response to the samples: keeps it and the best sample; returns its factor.
+    fn answer(&mut self) -> Q16 {
+        let mut sum = [(0i64, 0i64); S];
+        for (z, a) in self.samples.iter().zip(&self.num).take(self.features) {
+            for ((t, z), a) in sum.iter_mut().zip(z).zip(a) {
+                let p = |u: i32, v: i32| (i64::from(u) * i64::from(v)) >> SUM_SHIFT;
+                t.0 = t.0.saturating_add(p(a.re, z.re) - p(a.im, z.im));
+                t.1 = t.1.saturating_add(p(a.re, z.im) + p(a.im, z.re));
+            }
+        }
+        let mut q = [Complex::ZERO; S];
+        for ((q, t), &b) in q.iter_mut().zip(sum).zip(&self.den) {
+            let d = i128::from(b.saturating_add(self.lambda));
+            let part = |n: i64| {
+                let v = (i128::from(n) << QUOTIENT_SHIFT)
+                    .checked_div(d)
+                    .unwrap_or(0);
+                v.clamp(i32::MIN.into(), i32::MAX.into()) as i32
+            };
+            *q = Complex::new(part(t.0), part(t.1));
+        }
+        let e = inverse(&mut q);
+        rescale(&mut q, e);
+        for (r, q) in self.response.iter_mut().zip(&q) {
+            *r = q.re;
+        }
+        // The last of equal peaks, as the host's `max_by`.
+        let mut best = 0;
+        for (s, &r) in self.response.iter().enumerate() {
+            if self.response.get(best).is_some_and(|&b| r >= b) {
+                best = s;
+            }
+        }
+        self.best = best;
+        let between = match self.settings.interpolate {
+            true => parabola_peak(&self.response, best),
+            false => Q16::ZERO,
+        };
+        let at = Q16::from_int(Self::MIDDLE as i32 - best as i32).saturating_sub(between);
+        pow(self.settings.step, at)
+    }
+
+    /// Learns the samples at `rate`, the desired response peaked at sample `at`.
+    fn learn_at(&mut self, at: usize, rate: Q16) {
+        let eta = i64::from(rate.clamp(Q16::ZERO, Q16::ONE).to_bits());
+        let y = self.label(at);
+        let mut den = [0i64; S];
+        for (x, a) in self.samples.iter().zip(&mut self.num).take(self.features) {
+            for (((x, y), a), b) in x.iter().zip(&y).zip(a).zip(&mut den) {
+                let (xr, xi) = (i64::from(x.re), i64::from(x.im));
+                let (yr, yi) = (i64::from(y.re), i64::from(y.im));
+                let half = 1 << (NUM_SHIFT - 1);
+                let re = (yr * xr + yi * xi + half) >> NUM_SHIFT;
+                let im = (yi * xr - yr * xi + half) >> NUM_SHIFT;
+                *a = Complex::new(blend(a.re.into(), re, eta), blend(a.im.into(), im, eta));
+                *b = b.saturating_add((xr * xr).saturating_add(xi * xi));
+            }
+        }
+        for (b, new) in self.den.iter_mut().zip(den) {
+            let v = (i128::from(*b) * i128::from((1 << 16) - eta)
+                + i128::from(new) * i128::from(eta)
+                + (1 << 15))
+                >> 16;
+            *b = v.clamp(0, i64::MAX.into()) as i64;
+        }
+    }
+
+    /// The transform of the Gaussian over the scales peaked at sample `at`, Q16.
+    fn label(&self, at: usize) -> [Complex; S] {
+        let mut y = [Complex::ZERO; S];
+        for (s, v) in y.iter_mut().enumerate() {
+            let d = s.abs_diff(at).min(64) as i32;
+            *v = Complex::new(exp_neg(self.cost.mul_int(d * d)) as i32, 0);
+        }
+        let e = forward(&mut y);
+        rescale(&mut y, e);
+        y
+    }
+}
+
+/// The part of an extent of `extent` px (Q16.16) the cells cover, `cells` of `model` px,
+/// and the shift of its centre from the extent's: `extent cells / model` and
+/// `extent (cells - model) / (2 model)`, px, Q16.16.
+fn covered(extent: Q16, cells: usize, model: usize) -> (Q16, Q16) {
+    let e = i64::from(extent.to_bits());
+    let (c, m) = (cells as i64, model as i64);
+    let part = |n: i64, d: i64| Q16::saturate((e * n).checked_div(d).unwrap_or(0));
+    (part(c, m), part(c - m, 2 * m))
+}
+
+/// Stores the 9 unsigned channels `cell` (Q15) as sample `s` of the feature rows `rows`,
+/// Q21.
+fn store<const S: usize>(rows: &mut [[Complex; S]], cell: &[i16], s: usize) {
+    for (row, &v) in rows.iter_mut().zip(cell) {
+        if let Some(x) = row.get_mut(s) {
+            *x = Complex::new(i32::from(v) << FEATURE_SHIFT, 0);
+        }
+    }
+}
+
+/// Undoes a block exponent `e`: `data` times `2^e`, rounded, saturating.
+fn rescale(data: &mut [Complex], e: i32) {
+    if e == 0 {
+        return;
+    }
+    let scale = |v: i32| {
+        let v = i64::from(v);
+        let v = match e > 0 {
+            true => v << e.min(32),
+            false => {
+                let k = (-e).min(62);
+                (v + (1 << (k - 1))) >> k
+            }
+        };
+        Q16::saturate(v).to_bits()
+    };
+    for v in data.iter_mut() {
+        *v = Complex::new(scale(v.re), scale(v.im));
+    }
+}
+
+/// `(old (1 - eta) + new eta)`, `eta` Q16 in `[0, 1]`, rounded, saturated to `i32`.
+fn blend(old: i64, new: i64, eta: i64) -> i32 {
+    let v = old * ((1 << 16) - eta) + new.clamp(i32::MIN.into(), i32::MAX.into()) * eta;
+    Q16::saturate((v + (1 << 15)) >> 16).to_bits()
+}
+
+/// The offset of the top of the parabola through `r[at - 1..=at + 1]` from `at`, in
+/// samples, Q16.16, within `[-1/2, 1/2]`; 0 at the ends or where it opens upwards.
+fn parabola_peak(r: &[i32], at: usize) -> Q16 {
+    let value = |k: Option<usize>| k.and_then(|k| r.get(k)).map(|&v| i64::from(v));
+    let (Some(l), Some(c), Some(rt)) = (
+        value(at.checked_sub(1)),
+        value(Some(at)),
+        value(at.checked_add(1)),
+    ) else {
+        return Q16::ZERO;
+    };
+    let curve = l - 2 * c + rt;
+    if curve >= 0 {
+        return Q16::ZERO;
+    }
+    let half = 1 << (Q16::FRAC_BITS - 1);
+    let x = ((l - rt) << (Q16::FRAC_BITS - 1))
+        .checked_div(curve)
+        .unwrap_or(0);
+    Q16::saturate(x.clamp(-half, half))
+}
+
+/// `step^x`, Q16.16, for `step` in `(1, 1.5]` and `x` (Q16.16): the integer power and the
+/// binomial series of `(1 + u)^f` (`u = step - 1`, `f` the fraction of `x`), 12 terms, in
+/// Q30; saturates above `2^15`.
+pub fn pow(step: Q16, x: Q16) -> Q16 {
+    let one: i128 = 1 << POW_BITS;
+    let base = i128::from(step.to_bits().max(0)) << (POW_BITS - Q16::FRAC_BITS);
+    let u = base - one;
+    let f = i128::from(x.to_bits() & 0xffff) << (POW_BITS - Q16::FRAC_BITS);
+    // (1 + u)^f = sum_k C(f, k) u^k, C(f, k + 1) = C(f, k) (f - k) / (k + 1).
+    let mut term = one;
+    let mut frac = one;
+    for k in 0..12i128 {
+        term = (((term * (f - k * one)) >> POW_BITS) * u) >> POW_BITS;
+        term = term.checked_div(k + 1).unwrap_or(0);
+        frac += term;
+    }
+    let cap = one << 40;
+    let mut whole = one;
+    for _ in 0..x.floor_int().unsigned_abs().min(64) {
+        whole = ((whole * base + (one >> 1)) >> POW_BITS).min(cap);
+    }
+    let shift = 2 * POW_BITS - Q16::FRAC_BITS;
+    let v = match x.floor_int() >= 0 {
+        true => (frac * whole + (1 << (shift - 1))) >> shift,
+        false => ((frac << Q16::FRAC_BITS) + (whole >> 1))
+            .checked_div(whole)
+            .unwrap_or(0),
+    };
+    Q16::saturate(v.clamp(0, i32::MAX.into()) as i64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+    use std::vec::Vec;
+
+    const SETTINGS: ScaleSettings = ScaleSettings {
+        step: Q16::from_bits(70_779), // 1.08
+        sigma: Q16::from_ratio(1, 4),
+        lambda: 4_294_967, // 1e-3
+        area: 512,
+        cell: 4,
+        interpolate: true,
+    };
+
+    /// A 60 x 60 px target: a 22 x 22 px model, 5 x 5 cells, 225 features.
+    const SIZE: (Q16, Q16) = (Q16::from_int(60), Q16::from_int(60));
+
+    /// Features that vary smoothly with the log of the scale: feature `d` of sample `s` is
+    /// `g_d(s + shift)`, `g_d` a random sinusoid of amplitude 0.15 (Q15) and period 8, 4
+    /// or 8/3 scales (a shift is then circular; no constant part, which would answer at the
+    /// label's peak whatever the shift).
+    fn pyramid(shift: f64, seed: u64) -> Vec<[i16; 8]> {
+        let mut rng = Rng::new(seed);
+        (0..MAX_FEATURES)
+            .map(|_| {
+                let freq = core::f64::consts::TAU / 8.0 * (1 + rng.below(3)) as f64;
+                let phase = 6.3 * rng.uniform().to_f64();
+                core::array::from_fn(|s| {
+                    let t = s as f64 + shift;
+                    (0.15 * (freq * t + phase).sin() * 32768.0) as i16
+                })
+            })
+            .collect()
+    }
+
+    fn best(filter: &ScaleFilter<8>) -> usize {
+        let r = filter.response();
+        (0..8).max_by_key(|&s| r[s]).unwrap_or(0)
+    }
+
+    #[test]
+    fn the_model_is_the_hosts() {
+        let f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &[]);
+        assert_eq!(f.features(), 225);
+        assert_eq!(
+            f.grid,
+            Grid {
+                cols: 5,
+                rows: 5,
+                width: 22,
+                height: 22
+            }
+        );
+        // A long box: 101 x 8 px in the host, cut to 16 x 2 cells here.
+        let long = (Q16::from_int(200), Q16::from_int(10));
+        let g = Grid::new(&SETTINGS, long);
+        assert_eq!((g.cols, g.rows, g.width, g.height), (16, 2, 64, 8));
+        let want = [
+            1.08f64.powi(3),
+            1.08f64.powi(2),
+            1.08,
+            1.0,
+            1.0 / 1.08,
+            1.0 / 1.08f64.powi(2),
+            1.0 / 1.08f64.powi(3),
+            1.0 / 1.08f64.powi(4),
+        ];
+        for (f, w) in f.factors().iter().zip(want) {
+            assert!((f.to_f64() - w).abs() * 65536.0 <= 2.0, "{f:?} {w}");
+        }
+    }
+
+    #[test]
+    fn powers_of_the_step_are_within_2_lsb() {
+        let mut worst: f64 = 0.0;
+        for step in [1.02, 1.05, 1.08, 1.2, 1.5] {
+            for i in -8 * 64..=8 * 64 {
+                let x = i as f64 / 64.0;
+                let got = pow(Q16::from_f64(step), Q16::from_f64(x)).to_f64();
+                let step = Q16::from_f64(step).to_f64();
+                worst = worst.max((got - step.powf(x)).abs() * 65536.0);
+            }
+        }
+        assert!(worst <= 2.0, "{worst} LSB");
+        assert_eq!(pow(SETTINGS.step, Q16::ZERO), Q16::ONE);
+    }
+
+    #[test]
+    fn its_size_is_stated() {
+        assert_eq!(core::mem::size_of::<ScaleFilter<8>>(), 37_088);
+        assert!(core::mem::size_of::<ScaleFilter<8>>() <= 48 * 1024);
+    }
+
+    #[test]
+    fn the_trained_samples_answer_at_the_middle() {
+        let x = pyramid(0.0, 1);
+        let mut f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &x);
+        let factor = f.respond_features(&x);
+        assert_eq!(best(&f), ScaleFilter::<8>::MIDDLE);
+        assert!((factor.to_f64() - 1.0).abs() < 0.002, "{factor:?}");
+        // The label less its bins 0 and 4, which these features lack: 0.74 at the peak.
+        let peak = f.response()[ScaleFilter::<8>::MIDDLE];
+        assert!((peak - 48_549).abs() < 100, "{:?}", f.response());
+    }
+
+    #[test]
+    fn samples_shifted_by_a_scale_peak_a_scale_over() {
+        let mut f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &pyramid(0.0, 2));
+        for (shift, want) in [(1.0, 1.08), (-1.0, 1.0 / 1.08), (0.5, 1.08f64.sqrt())] {
+            let factor = f.respond_features(&pyramid(shift, 2)).to_f64();
+            assert!((factor / want - 1.0).abs() < 0.01, "{shift}: {factor}");
+        }
+        f.respond_features(&pyramid(1.0, 2));
+        assert_eq!(best(&f), ScaleFilter::<8>::MIDDLE - 1);
+    }
+
+    #[test]
+    fn learning_moves_the_peak() {
+        let x = pyramid(0.0, 3);
+        let mut f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &x);
+        let mid = ScaleFilter::<8>::MIDDLE;
+        // A little of a label two scales down leaves the peak; all of it moves it.
+        f.load(&x);
+        f.learn_at(mid - 2, Q16::from_ratio(1, 16));
+        f.respond_features(&x);
+        assert_eq!(best(&f), mid);
+        f.learn_at(mid - 2, Q16::ONE);
+        f.respond_features(&x);
+        assert_eq!(best(&f), mid - 2);
+        // Learning the best sample at rate 1 makes it answer as the trained ones.
+        let mut f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &x);
+        let y = pyramid(1.0, 3);
+        f.respond_features(&y);
+        f.learn(Q16::ONE);
+        let factor = f.respond_features(&y);
+        assert_eq!(best(&f), mid - 1);
+        assert!((factor.to_f64() - 1.08).abs() < 0.002, "{factor:?}");
+    }
+
+    #[test]
+    fn zero_features_answer_without_fault() {
+        let mut f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &[]);
+        let factor = f.respond_features(&[]);
+        assert!(f.response().iter().all(|&r| r == 0));
+        assert!(factor.to_bits() > 0);
+        f.learn(Q16::ONE);
+    }
+}

@@ -1,0 +1,757 @@
+//! The correlation-filter tracker (Staple-class: Bertinetto et al., CVPR 2016), in
+//! integers: the port of the host's f64 `cf64` tracker, which is its reference in the
+//! tests.
+//!
+//! # One step
+//! 1. The search region (the target plus `padding` times the mean of its sides, each way)
+//!    around the last position is resampled to `G x G` cells of `cell` px, each the mean
+//!    luma and 9 fHOG channels ([`crate::cf::features`]).
+//! 2. The translation filter answers with a response over the grid
+//!    ([`crate::cf::filter`]), one value per move of whole cells.
+//! 3. The colour model gives, per move, the mean object probability of a target-sized
+//!    box there ([`crate::cf::colour`], `2G x 2G` samples of the region).
+//! 4. The two merge as `(1 - merge) filter + merge colour`; the best move, refined between
+//!    cells by parabolas, is the new position and the merged peak the confidence.
+//! 5. The scale filter ([`crate::cf::scale`]) finds the size there, at most
+//!    `max_scale_change` away from the last.
+//! 6. When the confidence is at least `learn_above`, the three models learn the frame:
+//!    the search region's spectra and colour samples with the target where it was found,
+//!    and the scale samples.
+//!
+//! # Memory
+//! `size_of::<CfTracker<Bn, B, G, S>>()` is dominated by the translation filter (its
+//! numerator and the last spectra, half spectra of `10 G (G/2 + 1)` complex values each),
+//! the feature grid (`20 G^2` bytes), the colour map (`4 (2G + 1)^2` bytes) and the scale
+//! filter; `examples/budget.rs` reports it.
+
+use super::{CameraMotion, ConfigError, Estimate, Status};
+use crate::cf::colour::{ColourMap, ColourModel, Grid, SampleBox};
+use crate::cf::features::{extract, Cell, Sampling, CHANNELS};
+use crate::cf::filter::{Filter, FilterSettings};
+use crate::cf::scale::{ScaleFilter, ScaleSettings};
+use crate::fixed::Q16;
+use crate::image::{Binning, ImageView, PixelFormat};
+use crate::profile::{CfStageCycles, CycleCounter, NoCounter, Stopwatch};
+use crate::rect::Rect;
+use crate::window::Ellipse;
+use core::marker::PhantomData;
+
+/// Smallest target side, px.
+const MIN_SIDE: i32 = 4;
+
+/// The correlation-filter tracker's settings. [`CfConfig::default`] is the configuration
+/// docs/accuracy.md measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CfConfig {
+    /// Context around the target: the search region is the target plus this times the
+    /// mean of its width and height, each way, Q16.16 above 0.
+    pub padding: Q16,
+    /// Cell side, px of the resampled region, `2..=8`, even.
+    pub cell: usize,
+    /// Width of the translation filter's desired response: this share of the target's
+    /// `sqrt(w h)`, Q16.16 above 0.
+    pub sigma: Q16,
+    /// Regulariser of the translation filter, units of `2^-30` of a squared feature
+    /// ([`FilterSettings::lambda`]).
+    pub lambda: u32,
+    /// Learning rate of the translation filter, Q16.16 in `[0, 1]`.
+    pub cf_rate: Q16,
+    /// Learning rate of the colour histograms, Q16.16 in `[0, 1]`.
+    pub colour_rate: Q16,
+    /// The object's histogram is taken this share of the target's mean side inside its
+    /// box, Q16.16 in `[0, 1)`.
+    pub inner_padding: Q16,
+    /// Weight of the colour response in the merged response, Q16.16 in `[0, 1]`.
+    pub merge: Q16,
+    /// The scale filter's settings.
+    pub scale: ScaleSettings,
+    /// Learning rate of the scale filter, Q16.16 in `[0, 1]`.
+    pub scale_rate: Q16,
+    /// Largest change of size in a frame, a factor, Q16.16 at least 1.
+    pub max_scale_change: Q16,
+    /// Learn only from frames whose confidence is at least this, Q16.16.
+    pub learn_above: Q16,
+    /// Below this confidence the target is uncertain, Q16.16 in `[0, 1]`.
+    pub uncertain_below: Q16,
+    /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]`.
+    pub lost_below: Q16,
+}
+
+impl CfConfig {
+    /// Every field zero: the configuration of an unstarted tracker.
+    const UNSET: Self = Self {
+        padding: Q16::ZERO,
+        cell: 0,
+        sigma: Q16::ZERO,
+        lambda: 0,
+        cf_rate: Q16::ZERO,
+        colour_rate: Q16::ZERO,
+        inner_padding: Q16::ZERO,
+        merge: Q16::ZERO,
+        scale: ScaleSettings::UNSET,
+        scale_rate: Q16::ZERO,
+        max_scale_change: Q16::ZERO,
+        learn_above: Q16::ZERO,
+        uncertain_below: Q16::ZERO,
+        lost_below: Q16::ZERO,
+    };
+}
+
+impl Default for CfConfig {
+    fn default() -> Self {
+        let q = |v: f64| Q16::from_f64(v);
+        Self {
+            padding: Q16::ONE,
+            cell: 4,
+            sigma: q(1.0 / 16.0),
+            lambda: 1_073_742,
+            cf_rate: q(0.01),
+            colour_rate: q(0.04),
+            inner_padding: q(0.2),
+            merge: q(0.3),
+            scale: ScaleSettings {
+                step: q(1.08),
+                sigma: q(0.25),
+                lambda: 4_294_967,
+                area: 512,
+                cell: 4,
+                interpolate: true,
+            },
+            scale_rate: q(0.025),
+            max_scale_change: q(1.08),
+            learn_above: q(0.2),
+            uncertain_below: q(0.3),
+            lost_below: q(0.2),
+        }
+    }
+}
+
+impl CfConfig {
+    /// Checks every setting; the error names the first one out of its range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let check =
+            |ok: bool, name: &'static str| ok.then_some(()).ok_or(ConfigError::OutOfRange(name));
+        let unit = |v: Q16| v >= Q16::ZERO && v <= Q16::ONE;
+        check(
+            self.padding > Q16::ZERO && self.padding <= Q16::from_int(4),
+            "padding",
+        )?;
+        check(matches!(self.cell, 2 | 4 | 6 | 8), "cell")?;
+        check(self.sigma > Q16::ZERO, "sigma")?;
+        check(self.lambda > 0, "lambda")?;
+        check(unit(self.cf_rate), "cf_rate")?;
+        check(unit(self.colour_rate), "colour_rate")?;
+        check(
+            unit(self.inner_padding) && self.inner_padding < Q16::ONE,
+            "inner_padding",
+        )?;
+        check(unit(self.merge), "merge")?;
+        check(self.scale.step > Q16::ONE, "scale.step")?;
+        check(unit(self.scale_rate), "scale_rate")?;
+        check(self.max_scale_change >= Q16::ONE, "max_scale_change")?;
+        check(unit(self.uncertain_below), "uncertain_below")?;
+        check(
+            self.lost_below >= Q16::ZERO && self.lost_below <= self.uncertain_below,
+            "lost_below",
+        )
+    }
+}
+
+/// Where the search region lies for a target of a given size.
+#[derive(Clone, Copy, Debug)]
+struct Geometry {
+    /// Region size in the frame, px, Q16.16.
+    region: (Q16, Q16),
+    /// Patch px per frame px, per axis, Q16.16.
+    zoom: (Q16, Q16),
+    /// Target size in the patch, px, Q16.16.
+    target: (Q16, Q16),
+}
+
+/// The correlation-filter tracker of a `G x G` grid (a power of two, 8..=32) and `S`
+/// scales, on colour histograms of `Bn` (`B` bins).
+#[derive(Clone, Debug)]
+pub struct CfTracker<Bn: Binning, const B: usize, const G: usize, const S: usize> {
+    config: CfConfig,
+    frame_size: (i32, i32),
+    /// Target centre, px, Q16.16.
+    centre: (Q16, Q16),
+    /// Target size, px, Q16.16.
+    size: (Q16, Q16),
+    /// The first box's size, px, and the bounds of the size factor on it.
+    base: (Q16, Q16),
+    factor_bounds: (Q16, Q16),
+    filter: Filter<G>,
+    scale: ScaleFilter<S>,
+    colour: ColourModel<B>,
+    map: ColourMap,
+    /// The last search region's features.
+    cells: [[Cell; G]; G],
+    /// The translation filter's last response, Q16.16.
+    response: [[i32; G]; G],
+    estimate: Estimate,
+    _binning: PhantomData<Bn>,
+}
+
+/// The result of searching one region.
+struct Detection {
+    /// Target centre, px, Q16.16.
+    found: (Q16, Q16),
+    /// Its move from the region's centre, patch px, Q16.16.
+    moved: (Q16, Q16),
+    /// The merged response's peak, Q16.16.
+    peak: Q16,
+    geometry: Geometry,
+    grid: Grid,
+}
+
+impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, B, G, S> {
+    /// Colour samples a side of the search region.
+    const COLOUR_SIDE: usize = 2 * G;
+
+    /// A tracker that has not started: every bit zero (a `static` of one takes no
+    /// flash), its estimate lost at the origin until [`CfTracker::start`].
+    pub const fn unstarted() -> Self {
+        const {
+            assert!(G.is_power_of_two() && G >= 8 && G <= 32, "G: 8, 16 or 32");
+            assert!(Bn::BINS == B, "the binning must have B bins");
+        };
+        let origin = Ellipse::new(Q16::ZERO, Q16::ZERO, Q16::ZERO, Q16::ZERO);
+        Self {
+            config: CfConfig::UNSET,
+            frame_size: (0, 0),
+            centre: (Q16::ZERO, Q16::ZERO),
+            size: (Q16::ZERO, Q16::ZERO),
+            base: (Q16::ZERO, Q16::ZERO),
+            factor_bounds: (Q16::ZERO, Q16::ZERO),
+            filter: Filter::UNSET,
+            scale: ScaleFilter::UNSET,
+            colour: ColourModel::new(),
+            map: ColourMap::new(),
+            cells: [[[0; CHANNELS]; G]; G],
+            response: [[0; G]; G],
+            estimate: Estimate::at_rest(origin, Q16::ZERO, Status::Lost),
+            _binning: PhantomData,
+        }
+    }
+
+    /// A tracker started on `frame` with the target in `init` (px). On a board, start an
+    /// [`CfTracker::unstarted`] `static` in place instead: this value is large.
+    pub fn new<P: PixelFormat>(
+        config: CfConfig,
+        frame: &ImageView<'_, P>,
+        init: Rect,
+    ) -> Result<Self, ConfigError> {
+        let mut tracker = Self::unstarted();
+        tracker.start(config, frame, init)?;
+        Ok(tracker)
+    }
+
+    /// (Re)starts in place on `frame` with the target in `init` (px): the models learn it
+    /// afresh. On an error the tracker is left as it was.
+    pub fn start<P: PixelFormat>(
+        &mut self,
+        config: CfConfig,
+        frame: &ImageView<'_, P>,
+        init: Rect,
+    ) -> Result<(), ConfigError> {
+        config.validate()?;
+        let min = Q16::from_int(MIN_SIDE);
+        if init.w < min || init.h < min {
+            return Err(ConfigError::InitialTooSmall);
+        }
+        let frame_size = (frame.width() as i32, frame.height() as i32);
+        let centre = init.centre();
+        let inside = |v: Q16, n: i32| v >= Q16::ZERO && v <= Q16::from_int(n - 1);
+        if !(inside(centre.0, frame_size.0) && inside(centre.1, frame_size.1)) {
+            return Err(ConfigError::InitialOutside);
+        }
+        let size = (init.w, init.h);
+        let ratio = |a: i32, b: Q16| Q16::from_ratio((a as i64) << 16, b.to_bits() as i64);
+        self.config = config;
+        self.frame_size = frame_size;
+        self.centre = centre;
+        self.size = size;
+        self.base = size;
+        self.factor_bounds = (
+            ratio(MIN_SIDE, size.0).max(ratio(MIN_SIDE, size.1)),
+            ratio(frame_size.0, size.0)
+                .min(ratio(frame_size.1, size.1))
+                .max(Q16::ONE),
+        );
+        self.estimate = Estimate::at_rest(Ellipse::from(init), Q16::ONE, Status::Tracking);
+        let geometry = self.geometry();
+        self.sample_cells(frame, centre, &geometry);
+        let target = geometry.target;
+        let sigma = target
+            .0
+            .saturating_mul(target.1)
+            .sqrt()
+            .saturating_mul(config.sigma)
+            .saturating_div(Q16::from_int(config.cell as i32));
+        let settings = FilterSettings {
+            sigma,
+            lambda: config.lambda,
+        };
+        self.filter.reset(settings, &self.cells);
+        self.scale.start(config.scale, frame, centre, size);
+        let grid = self.colour_grid(centre, &geometry);
+        let still = (Q16::ZERO, Q16::ZERO);
+        self.learn_colour(frame, &grid, &geometry, still, Q16::ONE);
+        Ok(())
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &CfConfig {
+        &self.config
+    }
+
+    /// The last estimate (the first box's before any step).
+    pub fn estimate(&self) -> &Estimate {
+        &self.estimate
+    }
+
+    /// Tracks one frame (of the size the tracker started on: a frame of another size is
+    /// read clamped to its edges). An unstarted tracker returns its estimate unchanged.
+    pub fn step<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
+        self.step_profiled(frame, NoCounter).0
+    }
+
+    /// [`CfTracker::step`], reading `counter` at each stage boundary.
+    pub fn step_profiled<P: PixelFormat, C: CycleCounter>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        counter: C,
+    ) -> (Estimate, CfStageCycles) {
+        let mut watch = Stopwatch::start(counter);
+        let mut cycles = CfStageCycles::default();
+        if self.config.cell == 0 {
+            return (self.estimate, cycles);
+        }
+        let c = self.config;
+        let previous = self.centre;
+        let found = self.detect(frame, previous, &mut watch, &mut cycles);
+        self.centre = found.found;
+        let confidence = found.peak.max(Q16::ZERO).min(Q16::ONE);
+        let status = if confidence < c.lost_below {
+            Status::Lost
+        } else if confidence < c.uncertain_below {
+            Status::Uncertain
+        } else {
+            Status::Tracking
+        };
+
+        let factor = self
+            .scale
+            .respond(frame, self.centre, self.size)
+            .max(Q16::ONE.saturating_div(c.max_scale_change))
+            .min(c.max_scale_change);
+        cycles.scale = watch.lap();
+        let old_size = self.size;
+        let f = self
+            .size
+            .0
+            .saturating_div(self.base.0)
+            .saturating_mul(factor)
+            .max(self.factor_bounds.0)
+            .min(self.factor_bounds.1);
+        self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
+
+        if confidence >= c.learn_above {
+            let cell = Q16::from_int(c.cell as i32);
+            let shift = (
+                found.moved.1.saturating_div(cell),
+                found.moved.0.saturating_div(cell),
+            );
+            self.filter.learn(shift, c.cf_rate);
+            let size = self.size;
+            self.size = old_size;
+            self.learn_colour(
+                frame,
+                &found.grid,
+                &found.geometry,
+                found.moved,
+                c.colour_rate,
+            );
+            self.size = size;
+            self.scale.learn(c.scale_rate);
+        }
+        cycles.learn = watch.lap();
+        let velocity = (
+            self.centre.0.saturating_sub(previous.0),
+            self.centre.1.saturating_sub(previous.1),
+        );
+        let half = |v: Q16| Q16::from_bits(v.to_bits() / 2);
+        self.estimate = Estimate {
+            ellipse: Ellipse::new(
+                self.centre.0,
+                self.centre.1,
+                half(self.size.0),
+                half(self.size.1),
+            ),
+            vx: velocity.0,
+            vy: velocity.1,
+            confidence,
+            status,
+        };
+        (self.estimate, cycles)
+    }
+
+    /// Moves the target with the picture (a pan/tilt head's command, an IMU's reading): the
+    /// centre as [`CameraMotion::point`] moves it, clamped into the frame, and the size
+    /// as [`CameraMotion::length`] scales it, within the size bounds. The models stay as
+    /// they are.
+    pub fn camera_moved(&mut self, motion: &CameraMotion) {
+        if self.config.cell == 0 {
+            return;
+        }
+        let (x, y) = motion.point(self.centre.0, self.centre.1);
+        let last = |n: i32| Q16::from_int(n - 1);
+        self.centre = (
+            x.max(Q16::ZERO).min(last(self.frame_size.0)),
+            y.max(Q16::ZERO).min(last(self.frame_size.1)),
+        );
+        let f = motion
+            .length(self.size.0)
+            .saturating_div(self.base.0)
+            .max(self.factor_bounds.0)
+            .min(self.factor_bounds.1);
+        self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
+        let half = |v: Q16| Q16::from_bits(v.to_bits() / 2);
+        let e = self.estimate;
+        self.estimate = Estimate {
+            ellipse: Ellipse::new(
+                self.centre.0,
+                self.centre.1,
+                half(self.size.0),
+                half(self.size.1),
+            ),
+            vx: motion.length(e.vx),
+            vy: motion.length(e.vy),
+            ..e
+        };
+    }
+
+    /// Searches the region around `centre` for the target at its current size.
+    fn detect<P: PixelFormat, C: CycleCounter>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        watch: &mut Stopwatch<C>,
+        cycles: &mut CfStageCycles,
+    ) -> Detection {
+        let c = self.config;
+        let geometry = self.geometry();
+        self.sample_cells(frame, centre, &geometry);
+        cycles.features = watch.lap();
+        self.filter.respond(&self.cells, &mut self.response);
+        cycles.filter = watch.lap();
+        let grid = self.colour_grid(centre, &geometry);
+        self.map.build::<Bn, P, B>(frame, &grid, &self.colour);
+
+        // The largest move the colour response can see, cells: the target box stays
+        // inside the region.
+        let side = Q16::from_int((G * c.cell) as i32);
+        let room = side
+            .saturating_sub(geometry.target.0)
+            .min(side.saturating_sub(geometry.target.1));
+        let reach = (room.floor_int() / 2 / c.cell as i32).clamp(0, G as i32 / 2 - 1);
+        let cell = Q16::from_int(c.cell as i32);
+        let merged = |dx: i32, dy: i32| -> i64 {
+            let wrap = |d: i32| d.rem_euclid(G as i32) as usize;
+            let cf = self
+                .response
+                .get(wrap(dy))
+                .and_then(|row| row.get(wrap(dx)))
+                .copied()
+                .unwrap_or(0) as i64;
+            let moved = (cell.mul_int(dx), cell.mul_int(dy));
+            let colour = self
+                .map
+                .mean(&self.target_box(moved, geometry.target))
+                .to_bits() as i64;
+            let m = c.merge.to_bits() as i64;
+            (((1 << 16) - m) * cf + m * colour) >> 16
+        };
+        let (mut best, mut at) = (i64::MIN, (0, 0));
+        for dy in -reach..=reach {
+            for dx in -reach..=reach {
+                let v = merged(dx, dy);
+                if v > best {
+                    (best, at) = (v, (dx, dy));
+                }
+            }
+        }
+        let (dx, dy) = at;
+        let between = |at: i32, value: &dyn Fn(i32) -> i64| {
+            if at <= -reach || at >= reach {
+                return Q16::ZERO;
+            }
+            parabola_peak(value(at - 1), best, value(at + 1))
+        };
+        let fx = between(dx, &|x| merged(x, dy));
+        let fy = between(dy, &|y| merged(dx, y));
+        // The move, patch px, then frame px.
+        let moved = (
+            cell.mul_int(dx).saturating_add(fx.saturating_mul(cell)),
+            cell.mul_int(dy).saturating_add(fy.saturating_mul(cell)),
+        );
+        let last = |n: i32| Q16::from_int(n - 1);
+        let found = (
+            centre
+                .0
+                .saturating_add(moved.0.saturating_div(geometry.zoom.0))
+                .max(Q16::ZERO)
+                .min(last(self.frame_size.0)),
+            centre
+                .1
+                .saturating_add(moved.1.saturating_div(geometry.zoom.1))
+                .max(Q16::ZERO)
+                .min(last(self.frame_size.1)),
+        );
+        cycles.colour = watch.lap();
+        Detection {
+            moved: (
+                found
+                    .0
+                    .saturating_sub(centre.0)
+                    .saturating_mul(geometry.zoom.0),
+                found
+                    .1
+                    .saturating_sub(centre.1)
+                    .saturating_mul(geometry.zoom.1),
+            ),
+            found,
+            peak: Q16::saturate(best),
+            geometry,
+            grid,
+        }
+    }
+
+    /// The search region's geometry at the current size.
+    fn geometry(&self) -> Geometry {
+        let c = &self.config;
+        let pad = c.padding.saturating_mul(mean(self.size));
+        let region = (
+            self.size.0.saturating_add(pad),
+            self.size.1.saturating_add(pad),
+        );
+        let side = (G * c.cell) as i64;
+        let zoom = |r: Q16| Q16::from_ratio(side << 16, r.to_bits() as i64);
+        let zoom = (zoom(region.0), zoom(region.1));
+        Geometry {
+            region,
+            zoom,
+            target: (
+                self.size.0.saturating_mul(zoom.0),
+                self.size.1.saturating_mul(zoom.1),
+            ),
+        }
+    }
+
+    /// Resamples the region of `geometry` around `centre` into the feature grid; returns
+    /// the pixels read.
+    fn sample_cells<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        centre: (Q16, Q16),
+        geometry: &Geometry,
+    ) -> u32 {
+        let sampling = Sampling {
+            cx: centre.0,
+            cy: centre.1,
+            width: geometry.region.0,
+            height: geometry.region.1,
+            cols: G,
+            rows: G,
+            cell: self.config.cell,
+        };
+        extract(frame, &sampling, self.cells.as_flattened_mut())
+    }
+
+    /// The colour samples of the region of `geometry` around `centre`.
+    fn colour_grid(&self, centre: (Q16, Q16), geometry: &Geometry) -> Grid {
+        Grid {
+            cx: centre.0,
+            cy: centre.1,
+            width: geometry.region.0,
+            height: geometry.region.1,
+            side: Self::COLOUR_SIDE,
+        }
+    }
+
+    /// Patch px in colour samples: `2G` samples over `G cell` px.
+    fn to_samples(&self, v: Q16) -> Q16 {
+        let px = v.to_bits() as i64 * 2;
+        Q16::saturate(px.checked_div(self.config.cell as i64).unwrap_or(0))
+    }
+
+    /// A box of `size` patch px moved by `moved` patch px from the region's centre, in
+    /// colour samples.
+    fn target_box(&self, moved: (Q16, Q16), size: (Q16, Q16)) -> SampleBox {
+        let c = Q16::from_int(G as i32);
+        SampleBox::centred(
+            (
+                c.saturating_add(self.to_samples(moved.0)),
+                c.saturating_add(self.to_samples(moved.1)),
+            ),
+            (self.to_samples(size.0), self.to_samples(size.1)),
+        )
+    }
+
+    /// Blends the colour samples of `grid` into the model at `rate`, the target found
+    /// `moved` patch px from its centre; returns the samples read.
+    fn learn_colour<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        grid: &Grid,
+        geometry: &Geometry,
+        moved: (Q16, Q16),
+        rate: Q16,
+    ) -> u32 {
+        let shrink = self.config.inner_padding.saturating_mul(mean(self.size));
+        let inner = |side: Q16, zoom: Q16| {
+            side.saturating_sub(shrink)
+                .saturating_mul(zoom)
+                .max(Q16::ONE)
+        };
+        let object = (
+            inner(self.size.0, geometry.zoom.0),
+            inner(self.size.1, geometry.zoom.1),
+        );
+        let object = self.target_box(moved, object);
+        let target = self.target_box(moved, geometry.target);
+        self.colour
+            .learn::<Bn, P>(frame, grid, &object, &target, rate)
+    }
+}
+
+/// The mean of a width and a height, px, Q16.16.
+fn mean(size: (Q16, Q16)) -> Q16 {
+    Q16::saturate((size.0.to_bits() as i64 + size.1.to_bits() as i64) / 2)
+}
+
+/// The offset in `[-1/2, 1/2]` (Q16.16) of the top of the parabola through `(-1, l)`,
+/// `(0, c)` and `(1, r)`; 0 where the three do not curve down.
+fn parabola_peak(l: i64, c: i64, r: i64) -> Q16 {
+    let curve = l - 2 * c + r;
+    if curve >= 0 {
+        return Q16::ZERO;
+    }
+    Q16::from_ratio(l - r, 2 * curve)
+        .max(-Q16::HALF)
+        .min(Q16::HALF)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::{Gray8, Luma64, Rgb8x8x8};
+    use std::vec;
+    use std::vec::Vec;
+
+    type Small = CfTracker<Luma64, 64, 16, 8>;
+
+    /// A 96 x 72 grey frame: a textured 16 x 20 px block at `(x0, 26)` on a darker ramp.
+    fn frame(x0: usize) -> Vec<u8> {
+        let (w, h) = (96, 72);
+        let mut buf: Vec<u8> = (0..w * h).map(|i| (40 + (i % w) / 4) as u8).collect();
+        for y in 26..46 {
+            for x in x0..x0 + 16 {
+                buf[y * w + x] = if (x - x0) / 4 % 2 == (y / 5) % 2 {
+                    230
+                } else {
+                    150
+                };
+            }
+        }
+        buf
+    }
+
+    #[test]
+    fn follows_a_moving_block() {
+        let first = frame(20);
+        let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+        let mut tracker =
+            Small::new(CfConfig::default(), &view, Rect::new(20, 26, 16, 20)).unwrap();
+        for x0 in (22..50).step_by(2) {
+            let buf = frame(x0);
+            let e = tracker.step(&ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap());
+            let cx = e.ellipse.cx.to_f64();
+            assert!((cx - (x0 as f64 + 7.5)).abs() < 1.5, "x0 {x0}: centre {cx}");
+            assert_eq!(e.status, Status::Tracking);
+        }
+    }
+
+    #[test]
+    fn start_refuses_bad_settings_and_boxes_and_keeps_the_tracker() {
+        let buf = frame(20);
+        let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+        let mut tracker = Small::unstarted();
+        let bad = CfConfig {
+            merge: Q16::from_int(2),
+            ..CfConfig::default()
+        };
+        let good = CfConfig::default();
+        let cases = [
+            (
+                bad,
+                Rect::new(20, 26, 16, 20),
+                ConfigError::OutOfRange("merge"),
+            ),
+            (good, Rect::new(20, 26, 3, 20), ConfigError::InitialTooSmall),
+            (
+                good,
+                Rect::new(100, 26, 16, 20),
+                ConfigError::InitialOutside,
+            ),
+        ];
+        for (config, init, error) in cases {
+            assert_eq!(tracker.start(config, &view, init), Err(error));
+            assert_eq!(tracker.config().cell, 0, "left unstarted");
+        }
+        // Unstarted, a step changes nothing.
+        let before = *tracker.estimate();
+        assert_eq!(tracker.step(&view), before);
+        assert_eq!(tracker.estimate().status, Status::Lost);
+    }
+
+    #[test]
+    fn a_camera_motion_moves_the_target_with_the_picture() {
+        let buf = frame(20);
+        let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+        let mut tracker =
+            Small::new(CfConfig::default(), &view, Rect::new(20, 26, 16, 20)).unwrap();
+        let (cx, cy) = (tracker.estimate().ellipse.cx, tracker.estimate().ellipse.cy);
+        tracker.camera_moved(&CameraMotion::shift(Q16::from_int(5), Q16::from_int(-3)));
+        let e = tracker.estimate().ellipse;
+        assert_eq!((e.cx, e.cy), (cx + Q16::from_int(5), cy - Q16::from_int(3)));
+        // The picture moved with the camera: the block 5 px right and 3 px up.
+        let moved = frame(25);
+        let shifted: Vec<u8> = moved[3 * 96..]
+            .iter()
+            .copied()
+            .chain(vec![40; 3 * 96])
+            .collect();
+        let view2 = ImageView::<Gray8>::new(&shifted, 96, 72, 96).unwrap();
+        let e = tracker.step(&view2);
+        assert!(
+            (e.ellipse.cx.to_f64() - 32.5).abs() < 1.5,
+            "{:?}",
+            e.ellipse
+        );
+        assert!(
+            (e.ellipse.cy.to_f64() - 32.5).abs() < 1.5,
+            "{:?}",
+            e.ellipse
+        );
+    }
+
+    #[test]
+    fn the_default_tracker_fits_in_128_kib() {
+        let size = core::mem::size_of::<CfTracker<Rgb8x8x8, 512, 16, 8>>();
+        std::println!("CfTracker<Rgb8x8x8, 512, 16, 8>: {size} B");
+        assert!(size <= 128 * 1024, "{size} B");
+    }
+}
