@@ -10,7 +10,12 @@
 //! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps, and a known
 //!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom);
 //! - one 2-D forward FFT of a 32 x 32 grid of full-scale Q31 samples (`rbtrack::fft`, the
-//!   correlation filter's transform).
+//!   correlation filter's transform);
+//! - the correlation-filter tracker (`rbtrack::tracker::CfTracker`, 8 scales, defaults)
+//!   stage by stage, mean and largest, on a 16 x 16 grid (the default) and on 8 x 8 (a
+//!   budget configuration). Its 32 x 32 grid (about 176 KB of tracker) does not fit beside
+//!   the 150 KiB frame buffer and the 16 KiB stack in the board's 320 KiB of RAM: the example
+//!   prints its size instead.
 //!
 //! ```sh
 //! cargo run --release --example budget --target thumbv7em-none-eabihf
@@ -32,8 +37,9 @@ mod budget {
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::{CycleCounter, StageCycles};
     use rbtrack::rng::Rng;
-    use rbtrack::tracker::{CameraMotion, Config, Status, Tracker, Variant};
+    use rbtrack::tracker::{CameraMotion, CfConfig, CfTracker, Config, Status, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
+    use rbtrack_firmware::cf::{self, CF_SCALES};
     use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
     use rbtrack_firmware::scene::{self, FRAMES};
     use static_cell::ConstStaticCell;
@@ -58,6 +64,9 @@ mod budget {
     /// times 3/8, 6/8, 12/8 and 18/8.
     const SCALES_EIGHTHS: [i32; 4] = [3, 6, 12, 18];
 
+    /// The correlation-filter tracker of `G x G` cells, the firmware's 8 scales.
+    type Cf<const G: usize> = CfTracker<Rgb8x8x8, BINS, G, CF_SCALES>;
+
     /// The trackers other than the board's N = 100, one at a time in one static the size
     /// of the largest: all of them side by side would not fit the board's 320 KiB.
     #[allow(clippy::large_enum_variant)] // one static, never moved: its size is the point
@@ -67,6 +76,8 @@ mod budget {
         N50(Tracker<Rgb8x8x8, 50, BINS>),
         N200(Tracker<Rgb8x8x8, 200, BINS>),
         N400(Tracker<Rgb8x8x8, 400, BINS>),
+        Cf8(Cf<8>),
+        Cf16(Cf<16>),
     }
 
     static OTHER: ConstStaticCell<Other> = ConstStaticCell::new(Other::Idle);
@@ -124,6 +135,28 @@ mod budget {
             pixels: mean[5],
             height: mean[6],
         }
+    }
+
+    /// Means and largest per frame of the correlation-filter tracker's stages (features,
+    /// filter, colour, scale, learn) and of its step, over the scene at the defaults.
+    fn measure_cf<const G: usize>(
+        tracker: &mut Cf<G>,
+        frame: &mut [u8],
+        counter: &mut SysTick,
+    ) -> ([u64; 6], [u32; 6]) {
+        let (mut sums, mut most) = ([0u64; 6], [0u32; 6]);
+        let result = cf::run_cf(CfConfig::default(), tracker, frame, counter, |r| {
+            let c = r.cycles;
+            let row = [c.features, c.filter, c.colour, c.scale, c.learn, c.total()];
+            for ((sum, top), v) in sums.iter_mut().zip(most.iter_mut()).zip(row) {
+                *sum += v as u64;
+                *top = (*top).max(v);
+            }
+        });
+        if let Err(e) = result {
+            panic!("correlation-filter configuration: {e}");
+        }
+        (sums.map(|s| s / FRAMES as u64), most)
     }
 
     /// [`measure`] with `n` particles: the board's tracker for 100, else [`OTHER`] made
@@ -313,6 +346,46 @@ mod budget {
             "2-D forward FFT, 32 x 32, Q31: {} instructions (block exponent {})",
             counter.now().wrapping_sub(start),
             exponent
+        );
+
+        hprintln!("");
+        hprintln!(
+            "correlation-filter tracker, {} scales, defaults, instructions per frame by stage:",
+            CF_SCALES
+        );
+        hprintln!("G         RAM          features   filter   colour    scale    learn     total");
+        // Made in place in OTHER, one after the other, like the particle counts above.
+        macro_rules! cf_row {
+            ($variant:ident, $g:literal) => {{
+                *other = const { Other::$variant(CfTracker::unstarted()) };
+                let Other::$variant(t) = other else {
+                    unreachable!()
+                };
+                let (mean, most) = measure_cf::<$g>(t, &mut frame[..], &mut counter);
+                for (what, v) in [("mean", mean), ("max", most.map(u64::from))] {
+                    hprintln!(
+                        "{:<2} {:>9} B  {:<7} {:>8} {:>8} {:>8} {:>8} {:>8} {:>9}",
+                        $g,
+                        core::mem::size_of::<Cf<$g>>(),
+                        what,
+                        v[0],
+                        v[1],
+                        v[2],
+                        v[3],
+                        v[4],
+                        v[5]
+                    );
+                }
+            }};
+        }
+        cf_row!(Cf16, 16);
+        cf_row!(Cf8, 8);
+        hprintln!(
+            "32 {:>9} B  not run: with the {} B frame buffer and the {} B stack budget it \
+             exceeds the board's 320 KiB of RAM",
+            core::mem::size_of::<Cf<32>>(),
+            scene::FRAME_BYTES,
+            STACK_BUDGET_BYTES
         );
 
         // A tracker made in place must not have passed through the stack.
