@@ -7,7 +7,7 @@
 
 use rbtrack::profile::NoCounter;
 use rbtrack::tracker::{CfConfig, Status};
-use rbtrack_firmware::cf::{run_cf, CfFrameReport, FirmwareCfTracker};
+use rbtrack_firmware::cf::{iou_permille, run_cf, CfFrameReport, FirmwareCfTracker};
 use rbtrack_firmware::run::Checksum;
 use rbtrack_firmware::scene::{FRAMES, FRAME_BYTES};
 
@@ -26,16 +26,18 @@ fn host_run(report: impl FnMut(&CfFrameReport)) -> Checksum {
 
 #[test]
 fn host_reproduces_the_cf_firmware_checksum() {
-    let (mut frames, mut lost, mut worst_error_px) = (0, 0, 0.0f64);
+    let (mut frames, mut lost, mut worst_error_px, mut iou) = (0, 0, 0.0f64, 0u32);
     let checksum = host_run(|r| {
         frames += 1;
+        iou += iou_permille(&r.estimate.ellipse, &r.truth);
         lost += usize::from(r.estimate.status == Status::Lost);
         let dx = (r.estimate.ellipse.cx - r.truth.cx).to_f64();
         let dy = (r.estimate.ellipse.cy - r.truth.cy).to_f64();
         worst_error_px = worst_error_px.max(dx.hypot(dy));
     });
+    let iou = iou / FRAMES as u32;
     println!(
-        "host cf checksum {:#018x}, centre error up to {worst_error_px:.1} px",
+        "host cf checksum {:#018x}, centre error up to {worst_error_px:.1} px, mean IoU 0.{iou:03}",
         checksum.value()
     );
     assert_eq!(frames, FRAMES);
@@ -43,6 +45,7 @@ fn host_reproduces_the_cf_firmware_checksum() {
         lost, 0,
         "the firmware scene is easy: the tracker may not lose it"
     );
+    assert!(iou >= 500, "mean IoU 0.{iou:03}");
     assert!(
         worst_error_px < 15.0,
         "centre error up to {worst_error_px:.1} px"
