@@ -31,9 +31,9 @@ fn main() {
 mod firmware {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
-    use rbtrack::profile::{CfStageCycles, CycleCounter};
+    use rbtrack::profile::CfStageCycles;
     use rbtrack::tracker::{CfConfig, Status};
-    use rbtrack_firmware::board::{self, Dwt, SysTick};
+    use rbtrack_firmware::board::{self, Counter, Dwt, SysTick};
     use rbtrack_firmware::cf::{
         iou_permille, run_cf, CfFrameReport, FirmwareCfTracker, CF_GRID, CF_SCALES,
     };
@@ -48,21 +48,6 @@ mod firmware {
     static FRAME: ConstStaticCell<[u8; FRAME_BYTES]> = ConstStaticCell::new([0; FRAME_BYTES]);
     static TRACKER: ConstStaticCell<FirmwareCfTracker> =
         ConstStaticCell::new(FirmwareCfTracker::unstarted());
-
-    /// The counter the tracker is timed with.
-    enum Counter {
-        Dwt(Dwt),
-        SysTick(SysTick),
-    }
-
-    impl CycleCounter for Counter {
-        fn now(&mut self) -> u32 {
-            match self {
-                Counter::Dwt(c) => c.now(),
-                Counter::SysTick(c) => c.now(),
-            }
-        }
-    }
 
     fn stages(c: &CfStageCycles) -> [u32; 6] {
         [c.features, c.filter, c.colour, c.scale, c.learn, c.total()]

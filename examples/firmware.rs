@@ -37,28 +37,13 @@ mod firmware {
     use rbtrack::profile::{CycleCounter, StageCycles};
     use rbtrack::tracker::{Status, Tracker, Variant};
     use rbtrack::window;
-    use rbtrack_firmware::board::{self, Dwt, SysTick};
+    use rbtrack_firmware::board::{self, Counter, Dwt, SysTick};
     use rbtrack_firmware::run::{self, Checksum, FrameReport, BINS, PARTICLES};
     use rbtrack_firmware::scene::{self, FRAMES};
     use static_cell::ConstStaticCell;
 
     /// Iterations of the SysTick calibration loop (2 instructions each).
     const CALIBRATION_ITERATIONS: u32 = 5_000_000;
-
-    /// The counter the trackers are timed with.
-    enum Counter {
-        Dwt(Dwt),
-        SysTick(SysTick),
-    }
-
-    impl CycleCounter for Counter {
-        fn now(&mut self) -> u32 {
-            match self {
-                Counter::Dwt(c) => c.now(),
-                Counter::SysTick(c) => c.now(),
-            }
-        }
-    }
 
     /// A Q16.16 value with `D` decimals, right-aligned in `W` columns.
     struct Fixed<const W: usize, const D: u32>(Q16);

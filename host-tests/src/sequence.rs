@@ -438,6 +438,21 @@ fn parse_fields(line: &str) -> Result<BBox, String> {
     Ok(BBox::new(v[0], v[1], v[2], v[3]))
 }
 
+/// The sequence folders (those with an `img` folder) in `data`, sorted by name; none if
+/// it cannot be read.
+pub fn sequence_names(data: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(data)
+        .map(|dir| {
+            dir.filter_map(|e| e.ok())
+                .filter(|e| e.path().join("img").is_dir())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
 /// Where the shared real sequences are: `$RBTRACK_DATA` if set, else `shared/data` beside
 /// the repository (`<repo>/../shared/data`). `None` when that folder does not exist.
 pub fn shared_data_dir() -> Option<PathBuf> {

@@ -8,7 +8,7 @@ use rbtrack_host::metrics::BBox;
 use rbtrack_host::pixels::Frame;
 use rbtrack_host::run::{track, Options, CF_GRID};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant as SceneVariant};
-use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence};
+use rbtrack_host::sequence::{sequence_names, shared_data_dir, GtOrigin, Sequence};
 
 /// The integer tracker at `config`, and its f64 reference.
 fn both(config: CfConfig) -> [Options; 2] {
@@ -86,13 +86,7 @@ fn one_step_agrees_with_the_f64_reference_on_real_frames() {
         println!("SKIPPED: no ../shared/data folder with the real sequences");
         return;
     };
-    let mut names: Vec<String> = std::fs::read_dir(&data)
-        .expect("data folder")
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().join("img").is_dir())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
+    let names = sequence_names(&data);
     let mut steps = Vec::new();
     for name in &names {
         let seq = Sequence::open(data.join(name), GtOrigin::of_shared(name)).expect("opens");

@@ -7,7 +7,7 @@ use rbtrack_host::metrics::Evaluation;
 use rbtrack_host::recovery::{recovery, Recovery};
 use rbtrack_host::run::{track, Options};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant as SceneVariant};
-use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence};
+use rbtrack_host::sequence::{sequence_names, shared_data_dir, GtOrigin, Sequence};
 
 fn options(params: Params) -> Options {
     Options {
@@ -91,13 +91,7 @@ fn dev_set_from_the_first_box() {
         println!("SKIPPED: no ../shared/data folder with the real sequences");
         return;
     };
-    let mut names: Vec<String> = std::fs::read_dir(&data)
-        .expect("data folder")
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().join("img").is_dir())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
+    let names = sequence_names(&data);
     let mut aucs = Vec::new();
     for name in &names {
         let seq = Sequence::open(data.join(name), GtOrigin::of_shared(name)).expect("opens");

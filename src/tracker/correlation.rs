@@ -298,7 +298,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.scale.start(config.scale, frame, centre, size);
         let grid = self.colour_grid(centre, &geometry);
         let still = (Q16::ZERO, Q16::ZERO);
-        self.learn_colour(frame, &grid, &geometry, still, Q16::ONE);
+        self.learn_colour(frame, &grid, &geometry, still, size, Q16::ONE);
         Ok(())
     }
 
@@ -365,16 +365,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
                 found.moved.0.saturating_div(cell),
             );
             self.filter.learn(shift, c.cf_rate);
-            let size = self.size;
-            self.size = old_size;
-            self.learn_colour(
-                frame,
-                &found.grid,
-                &found.geometry,
-                found.moved,
-                c.colour_rate,
-            );
-            self.size = size;
+            let (grid, geometry) = (&found.grid, &found.geometry);
+            self.learn_colour(frame, grid, geometry, found.moved, old_size, c.colour_rate);
             self.scale.learn(c.scale_rate);
         }
         cycles.learn = watch.lap();
@@ -600,25 +592,26 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         )
     }
 
-    /// Blends the colour samples of `grid` into the model at `rate`, the target found
-    /// `moved` patch px from its centre; returns the samples read.
+    /// Blends the colour samples of `grid` into the model at `rate`, the target of `size`
+    /// px found `moved` patch px from its centre; returns the samples read.
     fn learn_colour<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
         grid: &Grid,
         geometry: &Geometry,
         moved: (Q16, Q16),
+        size: (Q16, Q16),
         rate: Q16,
     ) -> u32 {
-        let shrink = self.config.inner_padding.saturating_mul(mean(self.size));
+        let shrink = self.config.inner_padding.saturating_mul(mean(size));
         let inner = |side: Q16, zoom: Q16| {
             side.saturating_sub(shrink)
                 .saturating_mul(zoom)
                 .max(Q16::ONE)
         };
         let object = (
-            inner(self.size.0, geometry.zoom.0),
-            inner(self.size.1, geometry.zoom.1),
+            inner(size.0, geometry.zoom.0),
+            inner(size.1, geometry.zoom.1),
         );
         let object = self.target_box(moved, object);
         let target = self.target_box(moved, geometry.target);
