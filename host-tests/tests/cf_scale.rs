@@ -10,7 +10,7 @@ use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageView, Rgb888};
 use rbtrack_host::cf64::fft::{Fft1, C64};
 use rbtrack_host::cf64::fhog::{features, Hog};
-use rbtrack_host::cf64::image::RgbImage;
+use rbtrack_host::cf64::image::{Resample, RgbImage};
 use rbtrack_host::cf64::scale::{self as reference, ScaleParams};
 
 const S: usize = 8;
@@ -29,6 +29,7 @@ fn params() -> ScaleParams {
         lambda: 1e-3,
         window: false,
         luma: true,
+        resample: Resample::Bilinear,
     }
 }
 
@@ -84,7 +85,7 @@ fn reference_rows(filter: &reference::ScaleFilter, rgb: &[u8]) -> Vec<[i16; S]> 
     let mut rows = vec![[0i16; S]; cells * 9];
     for (s, &f) in filter.factors().iter().enumerate() {
         let patch = img(rgb)
-            .patch(CENTRE, (SIZE.0 * f, SIZE.1 * f), model)
+            .patch(CENTRE, (SIZE.0 * f, SIZE.1 * f), model, Resample::Bilinear)
             .greyed();
         let feat = features(&patch, 4, Hog::Unsigned9, false);
         assert_eq!(feat.cells(), cells);

@@ -4,18 +4,19 @@
 //! The integer port of the host's f64 reference (`cf64::fhog::features` of
 //! `RgbImage::patch(..).greyed()`, grey channel and `Hog::Unsigned9`), in one pass over the
 //! patch, row by row:
-//! - **Resampling.** Patch pixel `i` of an axis covers `[left + i step, left + (i + 1)
-//!   step)` px of the frame, `step = size / out`, positions in Q32.32 (`step` rounded
-//!   down, off by under `2^-23` px across the patch). Along an axis that shrinks
-//!   (`step > 1`) it is the mean of the source pixels whose centres fall in that
-//!   footprint (weights `1 / count`, Q24), along one that grows the linear interpolation
-//!   between the two source pixels nearest its centre (weights Q24). Source pixels outside
-//!   the frame repeat its nearest edge. The patch's luma is kept in Q8 (`1/256`).
+//! - **Resampling.** Patch pixel `i` of an axis is centred at `left + (i + 1/2) step` px
+//!   of the frame, `step = size / out`, positions in Q32.32 (`step` rounded down, off by
+//!   under `2^-23` px across the patch), and interpolated bilinearly between the 2 x 2
+//!   source pixels nearest that centre (weights Q24), whether the axis shrinks or grows,
+//!   as OpenCV's `INTER_LINEAR`: 4 reads a patch pixel whatever the region's size.
+//!   Source pixels outside the frame repeat its nearest edge. The patch's luma is kept in
+//!   Q8 (`1/256`).
 //! - **Gradient.** Central differences of the patch luma (one-sided at its edge), Q9 luma
 //!   per px; the magnitude by [`sqrt_q8`] (no per-pixel division), Q13; the orientation
-//!   folded into the upper half-plane and binned by integer cross products against the 9
-//!   boundaries of the unsigned bins (10 + 20 k degrees, cos and sin in Q30), which gives
-//!   the reference's signed bin `o` modulo 9 (`o` and `o + 9` are opposite directions).
+//!   folded into the upper half-plane and binned by integer cross products against the
+//!   boundaries of the unsigned bins (10 + 20 k degrees, cos and sin in Q30; 2 or 3 of the
+//!   4 in the first quadrant, the second quadrant's by mirror symmetry), which gives the
+//!   reference's signed bin `o` modulo 9 (`o` and `o + 9` are opposite directions).
 //! - **Histogram.** Each pixel's magnitude is spread bilinearly over its 4 nearest cells
 //!   (weights in `1 / (2 cell)` each way, exact), in units of `2^-13 / (4 cell^4) 2^shift`
 //!   luma (`shift = 2 ceil(log2 cell) + 1`, so a bin stays below `3.8e8`); the reference's
@@ -30,24 +31,25 @@
 //!
 //! Error against the f64 reference (host test `cf_features`, Gray8 frames, synthetic and
 //! real, 11 regions each: shrinking, growing, oblong, past the edge, cells of 2 to 8 px):
-//! the grey channel within `2.3e-5`. The fHOG channels within `1e-4` (mean `1.1e-5`) of
+//! the grey channel within `2.3e-5`. The fHOG channels within `9e-5` (mean `1.2e-5`) of
 //! the reference fed the patch rounded to `1/256` as here; against the exact patch, mean
-//! `1e-3`, with 2 to 3 % of the values off by more than `1e-3` and a few by up to 0.4: where
+//! `5e-5` to `2.2e-4`, with 0.4 to 1.4 % of the values off by more than `1e-3` and a few by
+//! up to 0.4: where
 //! the rounding moves a pixel's gradient across a bin boundary (or where the reference's
 //! last-bit noise tips an exactly vertical gradient, on the 90 degree boundary, into
 //! either bin), the pixel's share of a cell moves from one channel to the next, and a
 //! strong pixel in a weak block moves a whole clipped value.
 //!
-//! Working memory, on the stack: two patch rows (`2 x 512` u16; the next row is written
-//! over the one before last as the gradient of the middle row is taken), the histograms of
-//! two cell rows (`2 x 64 x 9` u32: a pixel row reaches only the cell rows on either side
-//! of it) and three rows of root energies (`3 x 64` u32: a cell row's normalisers need the
-//! rows above and below), 7,424 bytes; the luma sums of a cell row are kept in `out` until
-//! it is complete. On the Cortex-M4 (thumbv7em, opt-level `s`) `extract` takes 7,880 bytes
-//! and 8,156 with its deepest calls.
+//! Working memory, on the stack: three patch rows (`3 x 512` u16: the row below is
+//! sampled before the gradients of a row are taken), the histograms of two cell rows
+//! (`2 x 66 x 9` u32: a pixel row reaches only the cell rows on either side of it, and a
+//! padding cell at either end) and three rows of root energies (`3 x 64` u32: a cell row's
+//! normalisers need the rows above and below), 8,592 bytes; the luma sums of a cell row
+//! are kept in `out` until it is complete. On the Cortex-M4 (thumbv7em, opt-level `s`)
+//! `extract` takes 8,880 bytes and 9,116 with its deepest calls.
 
 use crate::fixed::{div_u64_u32, sqrt_q8, Q16};
-use crate::image::{ImageView, PixelFormat};
+use crate::image::{ImageView, PixelFormat, Row};
 
 /// Channels per cell: `[0]` the mean luma, `[1..10]` the 9 unsigned fHOG channels.
 pub const CHANNELS: usize = 10;
@@ -68,22 +70,22 @@ const MAX_PX: usize = MAX_CELLS * MAX_CELL;
 /// Unsigned orientation bins.
 const BINS: usize = 9;
 
-/// `(cos, sin)` of the boundaries between the unsigned bins, `10 + 20 k` degrees, Q30
-/// (times a Q9 gradient below `2^18`, a cross product stays below `2^49`).
-const BOUNDARIES: [(i64, i64); BINS] = [
+/// `(cos, sin)` of the boundaries between the unsigned bins in the first quadrant, 10, 30,
+/// 50 and 70 degrees, Q30 (times a Q9 gradient below `2^18`, a cross product stays below
+/// `2^49`); those of the second quadrant are their mirror images, `180 -` these.
+const BOUNDARIES: [(i32, i32); 4] = [
     (1_057_429_273, 186_453_311),
     (929_887_697, 536_870_912),
     (690_187_940, 822_533_958),
     (367_241_333, 1_008_987_269),
-    (0, 1_073_741_824),
-    (-367_241_333, 1_008_987_269),
-    (-690_187_940, 822_533_958),
-    (-929_887_697, 536_870_912),
-    (-1_057_429_273, 186_453_311),
 ];
 
+/// A cell row's histograms, cell `x` at `x + 1`: cells -1 and `cols` (which pixels near
+/// the grid's edge reach) are padding, so that a pixel's 4 shares need no test.
+type HistRow = [[u32; BINS]; MAX_CELLS + 2];
+
 /// Two empty cell rows of histograms (a constant, so that they are cleared in place).
-const NO_HIST: [[[u32; BINS]; MAX_CELLS]; 2] = [[[0; BINS]; MAX_CELLS]; 2];
+const NO_HIST: [HistRow; 2] = [[[0; BINS]; MAX_CELLS + 2]; 2];
 
 /// The clip of a normalised bin, 0.2, in Q31.
 const CLIP: u32 = 429_496_730;
@@ -108,23 +110,14 @@ pub struct Sampling {
 }
 
 /// Fills `out[y * cols + x]` with the features of cell `(x, y)` (see the module
-/// documentation); returns the frame pixels read, saturating.
+/// documentation), reading `4 cols rows cell^2` frame pixels.
 ///
 /// `cols`, `rows` are clamped into `1..=MAX_CELLS` and `cell` into `1..=MAX_CELL`; a
 /// negative width or height counts as 0 (every patch pixel then interpolates at the
 /// centre). Only the first `cols * rows` entries of `out` are written, and if `out` is
 /// shorter, the cells that fit (the features of a cell do not depend on the length of
 /// `out`).
-///
-/// Pixels read: `Tx * Ty`, where along each axis `T = size + 1` (px, rounded down) when it
-/// shrinks and `T = 2 out` (px of the patch) when it grows: `128 x 128` patch px read at
-/// most `65,536` pixels growing, or `(w + 1) (h + 1)` for a `w x h` px region above the
-/// patch's size. The caller bounds the region.
-pub fn extract<P: PixelFormat>(
-    frame: &ImageView<'_, P>,
-    sampling: &Sampling,
-    out: &mut [Cell],
-) -> u32 {
+pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, out: &mut [Cell]) {
     let cols = sampling.cols.clamp(1, MAX_CELLS);
     let rows = sampling.rows.clamp(1, MAX_CELLS);
     let cell = sampling.cell.clamp(1, MAX_CELL);
@@ -133,87 +126,44 @@ pub fn extract<P: PixelFormat>(
     let xs = Axis::new(sampling.cx, sampling.width, w);
     let mut ys = Axis::new(sampling.cy, sampling.height, h);
 
-    let mut patch = [[0u16; MAX_PX]; 2];
+    let mut patch = [[0u16; MAX_PX]; 3];
     let mut hist = NO_HIST;
     let mut energy = [[0u32; MAX_CELLS]; 3];
-    let mut reads = 0u32;
 
     if let Some(ty) = ys.next() {
-        for (v, tx) in patch[0].iter_mut().take(w).zip(xs) {
-            let (value, n) = sample(frame, tx, ty);
-            *v = value;
-            reads = reads.saturating_add(n);
-        }
+        sample_row(frame, xs, ty, &mut patch[0][..w]);
     }
     let mut sy = Split::first(cell);
     let (mut luma_row, mut luma_lines) = (0, 0);
     for p in 0..h {
-        // `cur` holds patch row p, `prev` row p - 1, overwritten with row p + 1.
-        let [even, odd] = &mut patch;
-        let (cur, prev) = if p % 2 == 0 {
-            (&*even, odd)
-        } else {
-            (&*odd, even)
+        // Patch row `p` is `patch[p % 3]`: the row below is sampled before the gradients
+        // of `p` are taken, over the row above.
+        if p + 1 < h {
+            if let Some(ty) = ys.next() {
+                sample_row(frame, xs, ty, &mut patch[(p + 1) % 3][..w]);
+            }
+        }
+        let around = [p.saturating_sub(1), p, (p + 1).min(h - 1)].map(|i| &patch[i % 3][..w]);
+        // A one-sided difference at the patch's edge counts twice.
+        let scale_y = match (p, h) {
+            (_, 1) => 0,
+            (0, _) => 2,
+            _ if p + 1 == h => 2,
+            _ => 1,
         };
-        let next = if p + 1 < h { ys.next() } else { None };
-        let mut taps = xs;
-        let mut sx = Split::first(cell);
+        // The two cell rows this pixel row reaches, as the bands of their histograms (cell
+        // row `cy` in band `cy % 2`) and weights; a row outside the grid weighs 0.
+        let bands = sy
+            .cells()
+            .map(|(cy, wy)| if cy < rows { (cy % 2, wy) } else { (0, 0) });
+        grid.add_gradients(around, scale_y, bands, &mut hist);
         // The luma sums of the cell row's cells, kept in `out` until it is complete.
-        let mut luma_cells = out_row(out, luma_row, cols).iter_mut();
-        let (mut luma_sum, mut luma_px) = (0, 0);
-        for (x, slot) in prev.iter_mut().enumerate().take(w) {
-            let at = |i: usize| i32::from(cur.get(i).copied().unwrap_or(0));
-            let here = at(x);
-            let gx = if w == 1 {
-                0
-            } else if x == 0 {
-                2 * (at(1) - here)
-            } else if x + 1 == w {
-                2 * (here - at(x - 1))
-            } else {
-                at(x + 1) - at(x - 1)
-            };
-            let gy = match (next, taps.next()) {
-                (Some(ty), Some(tx)) => {
-                    let (value, n) = sample(frame, tx, ty);
-                    reads = reads.saturating_add(n);
-                    let before = i32::from(core::mem::replace(slot, value));
-                    if p == 0 {
-                        2 * (i32::from(value) - here)
-                    } else {
-                        i32::from(value) - before
-                    }
-                }
-                _ if p == 0 => 0,
-                _ => 2 * (here - i32::from(*slot)),
-            };
-            let m = magnitude(gx, gy);
-            if m > 0 {
-                let bin = unsigned_bin(gx, gy);
-                for (cy, wy) in sy.cells() {
-                    let Some(band) = hist.get_mut(cy % 2).filter(|_| cy < rows) else {
-                        continue;
-                    };
-                    for (cx, wx) in sx.cells() {
-                        if let Some(b) = band
-                            .get_mut(cx)
-                            .filter(|_| cx < cols)
-                            .and_then(|c| c.get_mut(bin))
-                        {
-                            *b = b.saturating_add(grid.share(m, wx * wy));
-                        }
-                    }
-                }
-            }
-            sx.advance();
-            luma_sum += here as u32;
-            luma_px += 1;
-            if luma_px == cell {
-                if let Some(c) = luma_cells.next() {
-                    add_luma(c, luma_sum, luma_lines == 0);
-                }
-                (luma_sum, luma_px) = (0, 0);
-            }
+        for (c, px) in out_row(out, luma_row, cols)
+            .iter_mut()
+            .zip(around[1].chunks_exact(cell))
+        {
+            let sum = px.iter().map(|&v| u32::from(v)).sum();
+            add_luma(c, sum, luma_lines == 0);
         }
         luma_lines += 1;
         if luma_lines == cell {
@@ -232,7 +182,6 @@ pub fn extract<P: PixelFormat>(
         }
     }
     grid.finish(rows - 1, &energy, out_row(out, rows - 1, cols));
-    reads
 }
 
 /// Row `y` of `out` (`cols` cells, fewer or none if `out` is short).
@@ -261,39 +210,31 @@ fn add_luma(c: &mut Cell, v: u32, first: bool) {
     c[1] = (sum >> 16) as u16 as i16;
 }
 
-/// One patch pixel's source pixels along an axis: `count` pixels from `first` (px, before
-/// clamping into the frame), the first weighted `w0` and the others `w1`, Q24.
+/// One patch pixel's source pixels along an axis: `first` and `first + 1` (px, before
+/// clamping into the frame), weighted `1 - f` and `f` (`f` in Q24).
 #[derive(Clone, Copy, Debug)]
 struct Taps {
     first: i32,
-    count: u32,
-    w0: u32,
-    w1: u32,
+    f: u32,
 }
 
 impl Taps {
-    /// `sum of weight * value(k)` over the taps `k`, values times Q24.
+    /// The frame rows of a patch row's taps, clamped into the frame.
     #[inline(always)]
-    fn weigh(self, mut value: impl FnMut(i32) -> u64) -> u64 {
-        let head = value(self.first);
-        let tail = (1..self.count).fold(0u64, |sum, k| {
-            sum.saturating_add(value(self.first.saturating_add(k as i32)))
-        });
-        u64::from(self.w0)
-            .saturating_mul(head)
-            .saturating_add(u64::from(self.w1).saturating_mul(tail))
+    fn rows<'a, P: PixelFormat>(self, frame: &ImageView<'a, P>) -> [Row<'a, P>; 2] {
+        let row = |y: i32| frame.row(frame.clamp(0, y).1);
+        [row(self.first), row(self.first.saturating_add(1))]
     }
 }
 
-/// The taps of successive patch pixels along one axis, as `RgbImage::patch` takes them.
+/// The centres of successive patch pixels along one axis, as `RgbImage::patch` takes them
+/// with `Resample::Bilinear`.
 #[derive(Clone, Copy, Debug)]
 struct Axis {
-    /// The next pixel's footprint's left edge (shrinking) or centre (growing), px, Q32.32.
+    /// The next pixel's centre, px, Q32.32.
     pos: i64,
-    /// Footprint, px per patch px, Q32.32, rounded down.
+    /// Px of the frame per patch px, Q32.32, rounded down.
     step: i64,
-    /// Shrinking: `n = floor(step)` and the weights `1 / n`, `1 / (n + 1)`, Q24.
-    shrink: Option<(u32, u32, u32)>,
 }
 
 impl Axis {
@@ -303,20 +244,9 @@ impl Axis {
         let out = out.max(1) as i64;
         let step = (size << 16).checked_div(out).unwrap_or(0);
         let left = (2 * i64::from(centre.to_bits()) - size) << 15;
-        if size > out << 16 {
-            let n = (step >> 32).max(1) as u32;
-            let weight = |k: u32| (1u32 << 24).checked_div(k).unwrap_or(0);
-            Self {
-                pos: left,
-                step,
-                shrink: Some((n, weight(n), weight(n.saturating_add(1)))),
-            }
-        } else {
-            Self {
-                pos: left + step / 2,
-                step,
-                shrink: None,
-            }
+        Self {
+            pos: left + step / 2,
+            step,
         }
     }
 }
@@ -328,42 +258,31 @@ impl Iterator for Axis {
     fn next(&mut self) -> Option<Taps> {
         let pos = self.pos;
         self.pos += self.step;
-        Some(match self.shrink {
-            // The pixels whose centres lie in [pos, pos + step): ceil(pos)..ceil(pos + step).
-            Some((n, one_in_n, one_in_n1)) => {
-                let ceil = |q: i64| (q + 0xFFFF_FFFF) >> 32;
-                let first = ceil(pos);
-                let count = (ceil(self.pos) - first).clamp(1, i64::from(u32::MAX)) as u32;
-                let w = if count <= n { one_in_n } else { one_in_n1 };
-                Taps {
-                    first: first as i32,
-                    count,
-                    w0: w,
-                    w1: w,
-                }
-            }
-            None => {
-                let f = ((pos & 0xFFFF_FFFF) >> 8) as u32;
-                Taps {
-                    first: (pos >> 32) as i32,
-                    count: 2,
-                    w0: (1 << 24) - f,
-                    w1: f,
-                }
-            }
+        Some(Taps {
+            first: (pos >> 32) as i32,
+            f: ((pos & 0xFFFF_FFFF) >> 8) as u32,
         })
     }
 }
 
-/// The patch pixel of taps `tx`, `ty`: its luma, Q8, and the frame pixels read.
-#[inline(always)]
-fn sample<P: PixelFormat>(frame: &ImageView<'_, P>, tx: Taps, ty: Taps) -> (u16, u32) {
-    let acc = ty.weigh(|y| {
-        let row = frame.row(frame.clamp(0, y).1);
-        tx.weigh(|x| u64::from(row.luma(frame.clamp(x, 0).0)))
-    });
-    let value = (acc.saturating_add(1 << 39) >> 40).min(u64::from(u16::MAX)) as u16;
-    (value, tx.count.saturating_mul(ty.count))
+/// The patch row of row taps `ty` along `xs`'s first `out.len()` column taps, luma in Q8.
+fn sample_row<P: PixelFormat>(frame: &ImageView<'_, P>, xs: Axis, ty: Taps, out: &mut [u16]) {
+    let [top, bottom] = ty.rows(frame);
+    let (fy, gy) = (u64::from(ty.f), u64::from((1 << 24) - ty.f));
+    for (v, tx) in out.iter_mut().zip(xs) {
+        let (x0, x1) = (
+            frame.clamp(tx.first, 0).0,
+            frame.clamp(tx.first.saturating_add(1), 0).0,
+        );
+        // Values (at most 255) times Q24: below 2^32.
+        let along = |row: Row<'_, P>| {
+            let (l0, l1) = (u32::from(row.luma(x0)), u32::from(row.luma(x1)));
+            u64::from(((1 << 24) - tx.f) * l0 + tx.f * l1)
+        };
+        // Below 255 2^48.
+        let acc = gy * along(top) + fy * along(bottom);
+        *v = ((acc + (1 << 39)) >> 40).min(u64::from(u16::MAX)) as u16;
+    }
 }
 
 /// `sqrt(gx^2 + gy^2)`, Q13, of a gradient in Q9 (`|gx|, |gy| <= 2^17`).
@@ -381,14 +300,33 @@ fn magnitude(gx: i32, gy: i32) -> u32 {
 /// `20 k` degrees modulo 180, a boundary going to the bin above.
 #[inline(always)]
 fn unsigned_bin(gx: i32, gy: i32) -> usize {
+    // Folded into angles [0, 180) degrees.
     let (gx, gy) = if gy < 0 || (gy == 0 && gx < 0) {
         (-gx, -gy)
     } else {
         (gx, gy)
     };
-    let (gx, gy) = (i64::from(gx), i64::from(gy));
-    // Angle in [0, 180) degrees: at or past boundary b while the cross product is >= 0.
-    BOUNDARIES.partition_point(|&(c, s)| c * gy - s * gx >= 0) % BINS
+    // The first-quadrant boundaries `(ax, gy)` is past (`past(b, d)`: its cross product
+    // with boundary `b` at least `d`), found in 2 or 3 comparisons.
+    let count = |ax: i32, d: i64| {
+        let past =
+            |(c, s): (i32, i32)| i64::from(c) * i64::from(gy) - i64::from(s) * i64::from(ax) >= d;
+        let [b10, b30, b50, b70] = BOUNDARIES;
+        match (past(b30), past(b10)) {
+            (true, _) if past(b50) => 3 + usize::from(past(b70)),
+            (true, _) => 2,
+            (false, below) => usize::from(below),
+        }
+    };
+    match gx {
+        // [0, 90): the boundaries it is at or past.
+        1.. => count(gx, 0),
+        // 90 degrees: past 10 to 90.
+        0 => 5,
+        // (90, 180): mirrored, `180 - angle` in (0, 90) is at or below the mirror images
+        // of the boundaries from 110 degrees on that the angle is at or past.
+        _ => (BINS - count(gx.saturating_neg(), 1)) % BINS,
+    }
 }
 
 /// A patch pixel's two nearest cells along an axis: at `(p + 1/2) / cell - 1/2` cells, it
@@ -441,6 +379,8 @@ impl Split {
 struct Grid {
     cols: usize,
     rows: usize,
+    /// Cell side, px of the patch.
+    cell: usize,
     /// `cell^2 * 255`: a cell's luma sum (Q8) at 255.
     full: u32,
     /// Right shift of a pixel's weighted magnitude into the histogram's unit.
@@ -456,10 +396,55 @@ impl Grid {
         Self {
             cols,
             rows,
+            cell,
             full: (cell * cell) as u32 * 255,
             shift,
             // 1e-4 / 4 / cell^4 luma^2 times (4 cell^4 2^(13 - shift))^2, times 16.
             eps: (cell4 << (30 - 2 * shift)) / 2500,
+        }
+    }
+
+    /// Spreads the gradients of patch row `around[1]` (luma, Q8, between the rows above and
+    /// below it, `around[0]` and `around[2]`; vertical differences times `scale_y`) over
+    /// the histograms of the cell rows `bands` (band, weight) reaches.
+    fn add_gradients(
+        &self,
+        around: [&[u16]; 3],
+        scale_y: i32,
+        bands: [(usize, u32); 2],
+        hist: &mut [HistRow; 2],
+    ) {
+        let [above, cur, below] = around;
+        let w = cur.len();
+        let at = |row: &[u16], i: usize| i32::from(row.get(i).copied().unwrap_or(0));
+        let mut sx = Split::first(self.cell);
+        for x in 0..w {
+            // Central differences, one-sided (counted twice) at the edges.
+            let gx = match x {
+                _ if w == 1 => 0,
+                0 => 2 * (at(cur, 1) - at(cur, 0)),
+                _ if x + 1 == w => 2 * (at(cur, x) - at(cur, x - 1)),
+                _ => at(cur, x + 1) - at(cur, x - 1),
+            };
+            let gy = scale_y * (at(below, x) - at(above, x));
+            let m = magnitude(gx, gy);
+            if m > 0 {
+                let bin = unsigned_bin(gx, gy);
+                let [(c0, w0), (c1, w1)] = sx.cells();
+                // Cells -1 and `cols` are the padding at either end of a band.
+                let (i0, i1) = (c0.wrapping_add(1), c1 + 1);
+                for (band, wy) in bands {
+                    if let Some(h) = hist.get_mut(band) {
+                        if let Some(b) = h.get_mut(i0) {
+                            b[bin] += self.share(m, w0 * wy);
+                        }
+                        if let Some(b) = h.get_mut(i1) {
+                            b[bin] += self.share(m, w1 * wy);
+                        }
+                    }
+                }
+            }
+            sx.advance();
         }
     }
 
@@ -484,13 +469,10 @@ impl Grid {
 
     /// A cell row's histograms are complete: keeps each cell's root energy (`s`, Q2),
     /// stores its bins over `s` (Q15) in `out`, and clears the histograms.
-    fn settle(
-        &self,
-        hist: &mut [[u32; BINS]; MAX_CELLS],
-        energy: &mut [u32; MAX_CELLS],
-        out: &mut [Cell],
-    ) {
-        for (x, (bins, s)) in hist
+    fn settle(&self, hist: &mut HistRow, energy: &mut [u32; MAX_CELLS], out: &mut [Cell]) {
+        let (padding, cells) = hist.split_at_mut(1);
+        padding[0] = [0; BINS];
+        for (x, (bins, s)) in cells
             .iter_mut()
             .zip(energy.iter_mut())
             .enumerate()
@@ -507,6 +489,9 @@ impl Grid {
                     *t = (u64::from(b).saturating_mul(over_s) >> 32).min(i16::MAX as u64) as i16;
                 }
             }
+            *bins = [0; BINS];
+        }
+        if let Some(bins) = cells.get_mut(self.cols) {
             *bins = [0; BINS];
         }
     }
@@ -578,11 +563,11 @@ mod tests {
         }
     }
 
-    fn run(buf: &[u8], w: usize, h: usize, s: &Sampling) -> (Vec<Cell>, u32) {
+    fn run(buf: &[u8], w: usize, h: usize, s: &Sampling) -> Vec<Cell> {
         let frame = ImageView::<Gray8>::new(buf, w, h, w).unwrap();
         let mut out = vec![[0i16; CHANNELS]; s.cols * s.rows];
-        let reads = extract(&frame, s, &mut out);
-        (out, reads)
+        extract(&frame, s, &mut out);
+        out
     }
 
     /// Q15 to f64.
@@ -613,8 +598,7 @@ mod tests {
                     v as u8
                 })
                 .collect();
-            let (out, reads) = run(&buf, n, n, &whole(n, n, 4));
-            assert_eq!(reads, (4 * n * n) as u32); // 2 x 2 taps, the second weighted 0
+            let out = run(&buf, n, n, &whole(n, n, 4));
             for (i, c) in out.iter().enumerate() {
                 for (o, &v) in c[1..].iter().enumerate() {
                     let want = if o == bin { 0.4 } else { 0.0 };
@@ -631,7 +615,7 @@ mod tests {
         let buf: Vec<u8> = (0..32 * 32)
             .map(|i| if i % 32 < 16 { 20 } else { 220 })
             .collect();
-        let (out, _) = run(&buf, 32, 32, &whole(32, 32, 4));
+        let out = run(&buf, 32, 32, &whole(32, 32, 4));
         for (i, c) in out.iter().enumerate() {
             let x = i % 8;
             if x == 3 || x == 4 {
@@ -643,7 +627,7 @@ mod tests {
         }
         // Bright to dark: the same unsigned bin.
         let flipped: Vec<u8> = buf.iter().map(|&v| 240 - v).collect();
-        let (back, _) = run(&flipped, 32, 32, &whole(32, 32, 4));
+        let back = run(&flipped, 32, 32, &whole(32, 32, 4));
         for (a, b) in out.iter().zip(&back) {
             assert_eq!(a[1..], b[1..]);
         }
@@ -654,11 +638,11 @@ mod tests {
         let buf: Vec<u8> = (0..8 * 8)
             .map(|i| if i % 8 < 4 { 0 } else { 255 })
             .collect();
-        let (out, _) = run(&buf, 8, 8, &whole(8, 8, 4));
+        let out = run(&buf, 8, 8, &whole(8, 8, 4));
         let grey: Vec<i16> = out.iter().map(|c| c[0]).collect();
         assert_eq!(grey, [-16384, 16384, -16384, 16384]);
         let flat = vec![100u8; 8 * 8];
-        let (out, _) = run(&flat, 8, 8, &whole(8, 8, 2));
+        let out = run(&flat, 8, 8, &whole(8, 8, 2));
         for c in &out {
             // 100 / 255 - 1/2 = -0.10784
             assert_eq!(c[0], (-0.107_843_f64 * 32768.0).round() as i16);
@@ -740,7 +724,7 @@ mod tests {
         for s in cases {
             for len in [0, 1, 7, 64 * 64] {
                 let mut out = vec![[0x55i16; CHANNELS]; len];
-                let _ = extract(&frame, &s, &mut out);
+                extract(&frame, &s, &mut out);
                 let cells = s.cols.clamp(1, MAX_CELLS) * s.rows.clamp(1, MAX_CELLS);
                 for c in out.iter().skip(cells) {
                     assert_eq!(c, &[0x55; CHANNELS]);
@@ -784,6 +768,48 @@ mod tests {
         assert_eq!(at(200.0), 1);
         assert_eq!(at(355.0), 0);
         assert_eq!(at(345.0), 8);
+    }
+
+    #[test]
+    fn orientation_bins_count_the_boundaries_passed() {
+        // The bin is the number of the 9 boundaries 10 + 20 k degrees at or past the angle
+        // folded into [0, 180), modulo 9: ties included, such as (1, 1) against 50 degrees.
+        let folded = |gx: i64, gy: i64| {
+            if gy < 0 || (gy == 0 && gx < 0) {
+                (-gx, -gy)
+            } else {
+                (gx, gy)
+            }
+        };
+        let passed = |gx: i32, gy: i32| {
+            let (gx, gy) = folded(i64::from(gx), i64::from(gy));
+            (0..9)
+                .filter(|&k| {
+                    let (s, c) = (10.0 + 20.0 * k as f64).to_radians().sin_cos();
+                    let q = |v: f64| (v * f64::from(1 << 30)).round() as i64;
+                    q(c) * gy - q(s) * gx >= 0
+                })
+                .count()
+                % 9
+        };
+        let mut rng = crate::rng::Rng::new(5);
+        for _ in 0..200_000 {
+            let g = |r: &mut crate::rng::Rng| {
+                let v = r.below(1 << 18) as i32 - (1 << 17);
+                v >> r.below(17)
+            };
+            let (gx, gy) = (g(&mut rng), g(&mut rng));
+            if (gx, gy) != (0, 0) {
+                assert_eq!(unsigned_bin(gx, gy), passed(gx, gy), "{gx}, {gy}");
+            }
+        }
+        for gx in -40..=40 {
+            for gy in -40..=40 {
+                if (gx, gy) != (0, 0) {
+                    assert_eq!(unsigned_bin(gx, gy), passed(gx, gy), "{gx}, {gy}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -101,7 +101,9 @@ pub struct Filter<const G: usize> {
     lambda: u32,
 }
 
-/// `x 2^by`, rounded (half up) and saturated to `i32`.
+/// `x 2^by`, rounded (half up) and saturated to `i32`. Inlined: `by` is a constant at
+/// most calls, which then reduce to a shift and a clamp.
+#[inline(always)]
 fn scale(x: i64, by: i32) -> i32 {
     let bits = match by {
         0.. => x.saturating_mul(1 << by.min(32)),

@@ -542,14 +542,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
     }
 
-    /// Resamples the region of `geometry` around `centre` into the feature grid; returns
-    /// the pixels read.
+    /// Resamples the region of `geometry` around `centre` into the feature grid.
     fn sample_cells<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
         centre: (Q16, Q16),
         geometry: &Geometry,
-    ) -> u32 {
+    ) {
         let sampling = Sampling {
             cx: centre.0,
             cy: centre.1,
@@ -559,7 +558,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             rows: G,
             cell: self.config.cell,
         };
-        extract(frame, &sampling, self.cells.as_flattened_mut())
+        extract(frame, &sampling, self.cells.as_flattened_mut());
     }
 
     /// The colour samples of the region of `geometry` around `centre`.

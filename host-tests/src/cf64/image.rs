@@ -12,6 +12,17 @@ pub struct RgbImage<'a> {
     pub rgb: &'a [u8],
 }
 
+/// How a patch reads the frame along an axis that shrinks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resample {
+    /// Each output pixel is the mean of the source pixels whose centres fall in its
+    /// footprint (OpenCV's `INTER_AREA`): reads grow with the region.
+    Area,
+    /// Each output pixel is interpolated linearly between the two source pixels nearest its
+    /// centre, as along an axis that grows (OpenCV's `INTER_LINEAR`): 2 reads an axis.
+    Bilinear,
+}
+
 /// An image patch in f64: `width x height` px of R, G, B in `[0, 255]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Patch {
@@ -73,12 +84,18 @@ impl RgbImage<'_> {
 
     /// The region of `size` px (width, height) centred on `centre` (px, pixel centres at
     /// integer coordinates) resampled to `out` px (width, height). Along an axis that
-    /// shrinks, each output pixel is the mean of the source pixels whose centres fall in its
-    /// footprint; along one that grows, it is interpolated linearly between the two
-    /// nearest. Pixels outside the frame repeat its nearest edge.
-    pub fn patch(&self, centre: (f64, f64), size: (f64, f64), out: (usize, usize)) -> Patch {
-        let xs = taps(centre.0, size.0, out.0, self.width);
-        let ys = taps(centre.1, size.1, out.1, self.height);
+    /// shrinks, each output pixel is read as `resample` says; along one that grows, it is
+    /// interpolated linearly between the two nearest. Pixels outside the frame repeat its
+    /// nearest edge.
+    pub fn patch(
+        &self,
+        centre: (f64, f64),
+        size: (f64, f64),
+        out: (usize, usize),
+        resample: Resample,
+    ) -> Patch {
+        let xs = taps(centre.0, size.0, out.0, self.width, resample);
+        let ys = taps(centre.1, size.1, out.1, self.height, resample);
         let mut rgb = Vec::with_capacity(out.0 * out.1);
         for ty in &ys {
             for tx in &xs {
@@ -104,14 +121,20 @@ impl RgbImage<'_> {
 
 /// Per output pixel along one axis, the source pixels (clamped into `0..len`) and their
 /// weights, summing to 1: `out` pixels over `size` px centred on `centre`.
-fn taps(centre: f64, size: f64, out: usize, len: usize) -> Vec<Vec<(usize, f64)>> {
+fn taps(
+    centre: f64,
+    size: f64,
+    out: usize,
+    len: usize,
+    resample: Resample,
+) -> Vec<Vec<(usize, f64)>> {
     let clamp = |i: i64| i.clamp(0, len as i64 - 1) as usize;
     let step = size / out as f64;
     (0..out)
         .map(|i| {
             // The footprint [left, left + step) in px; pixel k covers [k - 0.5, k + 0.5).
             let left = centre - size / 2.0 + i as f64 * step;
-            if step > 1.0 {
+            if step > 1.0 && resample == Resample::Area {
                 let lo = left.ceil() as i64;
                 let hi = ((left + step).ceil() as i64).max(lo + 1);
                 let w = 1.0 / (hi - lo) as f64;
@@ -151,7 +174,7 @@ mod tests {
         let rgb = ramp(20, 10);
         let img = image(&rgb);
         // 6 x 4 px centred on (8.5, 4.5): columns 6..=11, rows 3..=6.
-        let p = img.patch((8.5, 4.5), (6.0, 4.0), (6, 4));
+        let p = img.patch((8.5, 4.5), (6.0, 4.0), (6, 4), Resample::Area);
         assert_eq!(p.at(0, 0), [6.0, 3.0, 7.0]);
         assert_eq!(p.at(5, 3), [11.0, 6.0, 7.0]);
     }
@@ -160,7 +183,7 @@ mod tests {
     fn shrinking_by_two_averages_pairs() {
         let rgb = ramp(20, 10);
         let img = image(&rgb);
-        let p = img.patch((9.5, 4.5), (20.0, 10.0), (10, 5));
+        let p = img.patch((9.5, 4.5), (20.0, 10.0), (10, 5), Resample::Area);
         assert_eq!(p.at(0, 0), [0.5, 0.5, 7.0]);
         assert_eq!(p.at(9, 4), [18.5, 8.5, 7.0]);
     }
@@ -170,7 +193,7 @@ mod tests {
         let rgb = ramp(20, 10);
         let img = image(&rgb);
         // 4 x 4 px centred on (0.5, 0.5): columns and rows -1..=2.
-        let p = img.patch((0.5, 0.5), (4.0, 4.0), (4, 4));
+        let p = img.patch((0.5, 0.5), (4.0, 4.0), (4, 4), Resample::Area);
         assert_eq!(p.at(0, 0), [0.0, 0.0, 7.0]);
         assert_eq!(p.at(3, 3), [2.0, 2.0, 7.0]);
     }
@@ -179,7 +202,9 @@ mod tests {
     fn every_second_pixel_halves_the_patch() {
         let rgb = ramp(20, 10);
         let img = image(&rgb);
-        let p = img.patch((9.5, 4.5), (20.0, 10.0), (20, 10)).every(2);
+        let p = img
+            .patch((9.5, 4.5), (20.0, 10.0), (20, 10), Resample::Area)
+            .every(2);
         assert_eq!((p.width, p.height), (10, 5));
         assert_eq!(p.at(3, 2), [6.0, 4.0, 7.0]);
     }
@@ -189,7 +214,7 @@ mod tests {
         let rgb = ramp(20, 10);
         let img = image(&rgb);
         // 2 x 2 px centred on (5.5, 5.5) to 4 x 4: output centres at 4.75, 5.25, 5.75, 6.25.
-        let p = img.patch((5.5, 5.5), (2.0, 2.0), (4, 4));
+        let p = img.patch((5.5, 5.5), (2.0, 2.0), (4, 4), Resample::Area);
         assert_eq!(p.at(0, 0), [4.75, 4.75, 7.0]);
         assert_eq!(p.at(1, 2), [5.25, 5.75, 7.0]);
         assert_eq!(p.at(3, 3), [6.25, 6.25, 7.0]);

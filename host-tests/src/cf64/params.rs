@@ -2,6 +2,7 @@
 //! (`rbtrack --set cf.grid=16`).
 
 use super::fhog::Hog;
+use super::image::Resample;
 use crate::fields::{self, field_table, FieldValue};
 use serde_json::Value;
 
@@ -23,6 +24,10 @@ pub struct Params {
     /// fHOG gradients of the luma alone, not of the strongest colour channel: what a grey
     /// or YUV camera gives, and what the integer tracker reads.
     pub luma_gradient: bool,
+    /// Resample the region bilinearly (2 x 2 source pixels an output pixel, as
+    /// OpenCV's `INTER_LINEAR`), not by the mean of each output pixel's footprint where it
+    /// shrinks: a bounded cost whatever the target's size.
+    pub bilinear: bool,
     /// Width of the desired response: this share of the target's `sqrt(w h)`, in cells.
     pub sigma: f64,
     /// Regulariser of the translation filter.
@@ -101,6 +106,7 @@ impl Default for Params {
             hog: Hog::Fhog27,
             grey: true,
             luma_gradient: false,
+            bilinear: false,
             sigma: 1.0 / 16.0,
             lambda: 1e-3,
             cf_rate: 0.01,
@@ -164,6 +170,7 @@ pub static FIELDS: &[Field] = field_table! {
     hog,
     grey,
     luma_gradient,
+    bilinear,
     sigma,
     lambda,
     cf_rate,
@@ -287,9 +294,16 @@ impl Params {
 }
 
 impl Params {
+    /// How patches read the frame.
+    pub fn resample(&self) -> Resample {
+        match self.bilinear {
+            true => Resample::Bilinear,
+            false => Resample::Area,
+        }
+    }
     /// The f64 settings of the core's integer tracker configured by `c` on a `grid x grid`
     /// grid of cells: its reference in
-    /// the tests. The integer tracker reads fHOG gradients of the luma, the 9 unsigned
+    /// the tests. The integer tracker resamples bilinearly, reads fHOG gradients of the luma, the 9 unsigned
     /// channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on
     /// every second pixel of the patch, learns on the detection's patch and samples, and
     /// reads the scale between samples without a window over them.
@@ -303,6 +317,7 @@ impl Params {
             hog: Hog::Unsigned9,
             grey: true,
             luma_gradient: true,
+            bilinear: true,
             sigma: q(c.sigma),
             lambda: f64::from(c.lambda) / f64::from(1u32 << 30),
             cf_rate: q(c.cf_rate),

@@ -13,7 +13,7 @@
 use super::fft::{Fft1, C64};
 use super::fhog::{features, Hog};
 use super::filter::hann;
-use super::image::RgbImage;
+use super::image::{Resample, RgbImage};
 
 /// Settings of the scale filter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,6 +36,8 @@ pub struct ScaleParams {
     pub window: bool,
     /// fHOG gradients of the luma alone.
     pub luma: bool,
+    /// How the samples read the frame.
+    pub resample: Resample,
 }
 
 /// The scale filter.
@@ -98,7 +100,7 @@ impl ScaleFilter {
         let mut columns = Vec::with_capacity(s);
         for (&f, &w) in self.factors.iter().zip(&self.window) {
             let extent = ((size.0 * f).max(2.0), (size.1 * f).max(2.0));
-            let patch = frame.patch(centre, extent, self.model);
+            let patch = frame.patch(centre, extent, self.model, self.params.resample);
             let patch = match self.params.luma {
                 true => patch.greyed(),
                 false => patch,
@@ -203,6 +205,7 @@ mod tests {
             lambda: 1e-2,
             window: true,
             luma: false,
+            resample: Resample::Area,
         };
         let base = frame(30.0);
         fn img(rgb: &[u8]) -> RgbImage<'_> {

@@ -166,7 +166,12 @@ impl Tracker {
         let size = (init.w, init.h);
         let geometry = Geometry::new(&params, size);
         let window = cosine_window(params.grid, params.grid);
-        let patch = frame.patch(centre, geometry.region, (geometry.side, geometry.side));
+        let patch = frame.patch(
+            centre,
+            geometry.region,
+            (geometry.side, geometry.side),
+            params.resample(),
+        );
         let x = patch_features(&params, &patch).windowed(&window);
         let sigma =
             (geometry.target.0 * geometry.target.1).sqrt() * params.sigma / params.cell as f64;
@@ -224,7 +229,12 @@ impl Tracker {
     fn detect(&self, frame: &RgbImage, centre: (f64, f64)) -> Detection {
         let p = &self.params;
         let geometry = Geometry::new(p, self.size);
-        let patch = frame.patch(centre, geometry.region, (geometry.side, geometry.side));
+        let patch = frame.patch(
+            centre,
+            geometry.region,
+            (geometry.side, geometry.side),
+            p.resample(),
+        );
         let spectra = self.filter.spectra(&self.features(&patch));
         let cf = self.filter.response(&spectra);
         let k = p.colour_step;
@@ -451,7 +461,12 @@ impl Tracker {
     fn learn_fresh(&mut self, frame: &RgbImage) {
         let p = self.params;
         let geometry = Geometry::new(&p, self.size);
-        let patch = frame.patch(self.centre, geometry.region, (geometry.side, geometry.side));
+        let patch = frame.patch(
+            self.centre,
+            geometry.region,
+            (geometry.side, geometry.side),
+            p.resample(),
+        );
         let x = self.filter.spectra(&self.features(&patch));
         self.filter.learn(&x, (0.0, 0.0), p.cf_rate);
         let (object, target) = colour_regions(&p, &geometry, self.size, (0.0, 0.0));
@@ -543,5 +558,6 @@ fn scale_params(params: &Params) -> ScaleParams {
         lambda: params.scale_lambda,
         window: params.scale_window,
         luma: params.luma_gradient,
+        resample: params.resample(),
     }
 }
