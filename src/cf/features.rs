@@ -12,7 +12,7 @@
 //!   Source pixels outside the frame repeat its nearest edge. The patch's luma is kept in
 //!   Q8 (`1/256`).
 //! - **Gradient.** Central differences of the patch luma (one-sided at its edge), Q9 luma
-//!   per px; the magnitude by [`sqrt_q8`] (no per-pixel division), Q13; the orientation
+//!   per px; the magnitude by [`sqrt_u64_q8`] (no per-pixel division), Q13; the orientation
 //!   folded into the upper half-plane and binned by integer cross products against the
 //!   boundaries of the unsigned bins (10 + 20 k degrees, cos and sin in Q30; 2 or 3 of the
 //!   4 in the first quadrant, the second quadrant's by mirror symmetry), which gives the
@@ -46,9 +46,9 @@
 //! padding cell at either end) and three rows of root energies (`3 x 64` u32: a cell row's
 //! normalisers need the rows above and below), 8,592 bytes; the luma sums of a cell row
 //! are kept in `out` until it is complete. On the Cortex-M4 (thumbv7em, opt-level `s`)
-//! `extract` takes 8,880 bytes and 9,116 with its deepest calls.
+//! `extract` takes 8,880 bytes and 9,156 with its deepest calls.
 
-use crate::fixed::{div_u64_u32, sqrt_q8, Q16};
+use crate::fixed::{div_u64_u32, sqrt_u64_q8, Q16};
 use crate::image::{ImageView, PixelFormat, Row};
 
 /// Channels per cell: `[0]` the mean luma, `[1..10]` the 9 unsigned fHOG channels.
@@ -290,10 +290,7 @@ fn sample_row<P: PixelFormat>(frame: &ImageView<'_, P>, xs: Axis, ty: Taps, out:
 fn magnitude(gx: i32, gy: i32) -> u32 {
     let (gx, gy) = (i64::from(gx), i64::from(gy));
     let n = (gx * gx + gy * gy) as u64; // < 2^36
-                                        // Bring n below 2^32 by an even shift; its root then shifts back by half of it.
-    let half = (64 - n.leading_zeros()).saturating_sub(32).div_ceil(2);
-    let root = sqrt_q8((n >> (2 * half)) as u32) << half; // Q17
-    (root + 8) >> 4
+    ((sqrt_u64_q8(n) + 8) >> 4) as u32
 }
 
 /// The unsigned orientation bin (`0..9`) of a gradient: the nearest of 9 directions
@@ -430,19 +427,19 @@ impl Grid {
             let m = magnitude(gx, gy);
             if m > 0 {
                 let bin = unsigned_bin(gx, gy);
-                let [(c0, w0), (c1, w1)] = sx.cells();
-                // Cells -1 and `cols` are the padding at either end of a band.
-                let (i0, i1) = (c0.wrapping_add(1), c1 + 1);
-                for (band, wy) in bands {
-                    if let Some(h) = hist.get_mut(band) {
-                        if let Some(b) = h.get_mut(i0) {
-                            b[bin] += self.share(m, w0 * wy);
-                        }
-                        if let Some(b) = h.get_mut(i1) {
-                            b[bin] += self.share(m, w1 * wy);
-                        }
+                // Cells `c - 1` and `c`, at `c` and `c + 1` of a band (cells -1 and `cols`
+                // are the padding at either end): their bins `bin` lie `BINS` apart.
+                let [(_, w0), (c, w1)] = sx.cells();
+                let at = c * BINS + bin;
+                let mut spread = |(band, wy): (usize, u32)| {
+                    let bins = hist.get_mut(band).map(|h| h.as_flattened_mut());
+                    if let Some([left, .., right]) = bins.and_then(|b| b.get_mut(at..=at + BINS)) {
+                        *left += self.share(m, w0 * wy);
+                        *right += self.share(m, w1 * wy);
                     }
-                }
+                };
+                spread(bands[0]);
+                spread(bands[1]);
             }
             sx.advance();
         }
@@ -482,7 +479,7 @@ impl Grid {
             let e = bins
                 .iter()
                 .fold(0u64, |e, &b| e.saturating_add(u64::from(b) * u64::from(b)));
-            *s = e.saturating_mul(16).isqrt() as u32;
+            *s = (sqrt_u64_q8(e.saturating_mul(16)) >> 8) as u32;
             let over_s = div_u64_u32(1 << 49, *s); // 2^47 / s, s Q2
             if let Some(c) = out.get_mut(x) {
                 for (t, &b) in c[1..].iter_mut().zip(bins.iter()) {
@@ -539,7 +536,10 @@ impl Grid {
                 let s = energy[y % 3].get(x).copied().unwrap_or(0);
                 sum.saturating_add(u64::from(s) * u64::from(s))
             });
-        div_u64_u32(1 << 60, e.isqrt().min(u64::from(u32::MAX)) as u32)
+        div_u64_u32(
+            1 << 60,
+            (sqrt_u64_q8(e) >> 8).min(u64::from(u32::MAX)) as u32,
+        )
     }
 }
 

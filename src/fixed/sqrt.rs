@@ -38,6 +38,20 @@ pub fn sqrt_q8(n: u32) -> u32 {
     (lo + (((hi - lo) * frac) >> INTERPOLATION_BITS)) >> (shift / 2)
 }
 
+/// `sqrt(n) * 256` of any `u64`, within a relative error of `1.6e-5` plus 1 unit: `n`
+/// shifted right by an even amount below `2^32` (keeping at least 31 of its bits) and its
+/// [`sqrt_q8`] shifted back by half of it.
+#[inline]
+pub fn sqrt_u64_q8(n: u64) -> u64 {
+    if let Ok(small) = u32::try_from(n) {
+        return u64::from(sqrt_q8(small));
+    }
+    let half = (u64::BITS - n.leading_zeros())
+        .saturating_sub(32)
+        .div_ceil(2);
+    u64::from(sqrt_q8((n >> (2 * half)) as u32)) << half
+}
+
 /// `floor(sqrt(n))`, exactly, for any `n < 2^31`: [`sqrt_q8`] (never above the exact
 /// root, at most a unit below it) corrected upwards; no bit-by-bit loop.
 #[inline]
@@ -78,6 +92,28 @@ mod tests {
         assert!(worst < 8e-6, "relative error {worst}");
         assert_eq!(sqrt_q8(1), 256);
         assert_eq!(sqrt_q8(65536), 65536);
+    }
+
+    #[test]
+    fn sqrt_u64_q8_is_accurate() {
+        let mut r = Rng::new(6);
+        let mut worst = 0f64;
+        for k in 0..1_000_000u32 {
+            let n = (u64::from(r.next_u32()) << 32 | u64::from(r.next_u32())) >> (k % 64);
+            let got = sqrt_u64_q8(n) as f64 / 256.0;
+            let want = (n as f64).sqrt();
+            assert!(got <= want * (1.0 + 1e-12) + 1e-9, "{n}: {got} > {want}");
+            if want > 0.0 {
+                worst = worst.max((want - got - 1.0 / 256.0) / want);
+            }
+        }
+        assert!(worst < 1.6e-5, "relative error {worst}");
+        let top = sqrt_u64_q8(u64::MAX) as f64 / 256.0;
+        assert!(
+            (top - 2f64.powi(32)).abs() < 2f64.powi(32) * 1.6e-5,
+            "{top}"
+        );
+        assert_eq!(sqrt_u64_q8(1 << 40), 1 << 28);
     }
 
     #[test]
