@@ -1,7 +1,7 @@
 //! The browser page (`web/`) in headless Chromium: it tracks a real sequence, given as
 //! lossless PNG frames, to the same boxes as `rbtrack track` on the same pixels, frame for
-//! frame, for both trackers; its run of the firmware's synthetic scene gives the firmware's
-//! checksum; it loads again from its service worker with the network cut; and it tracks a
+//! frame, for the three trackers (colour PF, RBPF, correlation filter); its runs of the
+//! firmwares' synthetic scene give the firmwares' checksums; it loads again from its service worker with the network cut; and it tracks a
 //! video file and the (fake) webcam as a person uses it, box dragged with the mouse.
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`), Node with the harness's
@@ -11,6 +11,8 @@
 //! boxes stay in `target/browser/`.
 
 use rbtrack::profile::NoCounter;
+use rbtrack::tracker::CfConfig;
+use rbtrack_firmware::cf::{run_cf, FirmwareCfTracker};
 use rbtrack_firmware::run::{run_all, FirmwareTracker};
 use rbtrack_firmware::scene::FRAME_BYTES;
 use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence, GROUNDTRUTH_FILE};
@@ -104,7 +106,7 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     let init = format!("{},{},{},{}", init.x, init.y, init.w, init.h);
 
     let mut checksums = Vec::new();
-    for (tracker, code) in [("pf", "1"), ("rbpf", "0")] {
+    for (tracker, code) in [("pf", "1"), ("rbpf", "0"), ("cf", "2")] {
         let host_csv = out.join(format!("host_{tracker}.csv"));
         run(Command::new(env!("CARGO_BIN_EXE_rbtrack"))
             .args(["track", "--tracker", tracker, "--per-frame"])
@@ -128,7 +130,8 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
         }
         assert_eq!(page.lines().count(), host.lines().count());
         let doc: serde_json::Value = serde_json::from_str(figures.trim()).unwrap();
-        checksums.push(doc["checksum"].as_str().unwrap().to_owned());
+        checksums
+            .push([&doc["checksum"], &doc["cf_checksum"]].map(|c| c.as_str().unwrap().to_owned()));
         assert_eq!(doc["offline"], true, "a reload without the network works");
         assert!(page_out.join("screenshot.png").is_file());
     }
@@ -182,13 +185,28 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     let mut frame = vec![0u8; FRAME_BYTES];
     let mut tracker = Box::new(FirmwareTracker::unstarted());
     let host = run_all(&mut tracker, &mut frame, NoCounter, |_, _| {}).unwrap();
-    let host = format!("{:#018x}", host.value());
+    let mut tracker = Box::new(FirmwareCfTracker::unstarted());
+    let cf = run_cf(
+        CfConfig::default(),
+        &mut tracker,
+        &mut frame,
+        NoCounter,
+        |_| {},
+    )
+    .unwrap();
+    let host = [host, cf].map(|c| format!("{:#018x}", c.value()));
     for page in &checksums {
-        assert_eq!(page, &host, "the page's firmware-scene checksum");
+        assert_eq!(page, &host, "the page's firmware-scene checksums");
     }
-    if let Ok(qemu) = std::env::var("RBTRACK_FIRMWARE_CHECKSUM") {
-        assert_eq!(host, qemu.trim(), "QEMU's");
+    for (host, var) in host
+        .iter()
+        .zip(["RBTRACK_FIRMWARE_CHECKSUM", "RBTRACK_CF_FIRMWARE_CHECKSUM"])
+    {
+        if let Ok(qemu) = std::env::var(var) {
+            assert_eq!(host, qemu.trim(), "QEMU's ({var})");
+        }
     }
+    let host = host.join(", ");
     println!(
         "page, host checksum {host}; screenshots in {}",
         out.display()

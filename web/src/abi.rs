@@ -7,7 +7,7 @@
 //! ([`crate::WebError::code`]). The state is one session, kept in a `static`.
 #![allow(unsafe_code)] // `#[no_mangle]` exports only: no unsafe block.
 
-use crate::{firmware_checksum, Frames, Session, WebError};
+use crate::{cf_firmware_checksum, firmware_checksum, Frames, Kind, Session, WebError};
 use rbtrack::tracker::{Estimate, Variant};
 use std::sync::{Mutex, PoisonError};
 
@@ -63,9 +63,10 @@ pub extern "C" fn rb_frame(width: u32, height: u32) -> *mut u8 {
     }
 }
 
-/// Starts tracking on the frame written: `tracker` 0 the RBPF, 1 the colour PF;
-/// `particles` 25, 50, 100 or 200; the random draws' `seed`; the 0-based box `x, y, w, h`,
-/// px. Returns 0, or a negative error code.
+/// Starts tracking on the frame written: `tracker` 0 the RBPF, 1 the colour PF, 2 the
+/// correlation-filter tracker; `particles` 25, 50, 100 or 200 (particle filters only); the
+/// random draws' `seed`; the 0-based box `x, y, w, h`, px. Returns 0, or a negative error
+/// code.
 #[no_mangle]
 pub extern "C" fn rb_start(
     tracker: u32,
@@ -76,24 +77,17 @@ pub extern "C" fn rb_start(
     w: f64,
     h: f64,
 ) -> i32 {
-    let variant = match tracker {
-        0 => Variant::Rbpf,
-        _ => Variant::ColourPf,
+    let kind = match tracker {
+        0 => Kind::Particles(Variant::Rbpf, particles as usize),
+        2 => Kind::CorrelationFilter,
+        _ => Kind::Particles(Variant::ColourPf, particles as usize),
     };
     let state = &mut *state();
     let started = state
         .frames
         .view()
         .map_err(WebError::Frame)
-        .and_then(|view| {
-            Session::start(
-                variant,
-                particles as usize,
-                seed as u64,
-                &view,
-                (x, y, w, h),
-            )
-        });
+        .and_then(|view| Session::start(kind, seed as u64, &view, (x, y, w, h)));
     match started {
         Ok(session) => {
             state.record(&session.estimate(), 0);
@@ -137,6 +131,13 @@ pub extern "C" fn rb_report_bits() -> *const i32 {
 #[no_mangle]
 pub extern "C" fn rb_firmware_checksum() -> u64 {
     firmware_checksum().unwrap_or(0)
+}
+
+/// The correlation-filter firmware's checksum on the same scene ([`cf_firmware_checksum`]),
+/// 0 if the run could not start.
+#[no_mangle]
+pub extern "C" fn rb_cf_firmware_checksum() -> u64 {
+    cf_firmware_checksum().unwrap_or(0)
 }
 
 #[cfg(test)]

@@ -4,8 +4,10 @@
 //!
 //! The page hands each frame over as the RGBA bytes of a canvas; [`Frames`] converts them
 //! once to RGB888, the core's [`Rgb888`] view, and a [`Session`] tracks it with the RBPF
-//! or the colour PF of 25 to 200 particles (512 colour bins). [`firmware_checksum`] runs
-//! the example firmware's synthetic scene and returns the checksum QEMU prints.
+//! or the colour PF of 25 to 200 particles (512 colour bins), or the correlation-filter
+//! tracker (`CfTracker`, 16 x 16 cells, 8 scales, as `rbtrack --tracker cf` and the
+//! correlation-filter firmware run it). [`firmware_checksum`] and [`cf_firmware_checksum`]
+//! run the example firmwares' synthetic scene and return the checksums QEMU prints.
 //!
 //! The binding is a plain `extern "C"` ABI ([`abi`]): a handful of functions over numbers
 //! and one frame buffer in the module's memory, which the page fills in place. It needs no
@@ -14,8 +16,9 @@
 use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageError, ImageView, Rgb888};
 use rbtrack::profile::NoCounter;
-use rbtrack::tracker::{Config, ConfigError, Estimate, Variant};
-use rbtrack::{Ellipse, RgbTracker};
+use rbtrack::tracker::{CfConfig, Config, ConfigError, Estimate, Variant};
+use rbtrack::{Ellipse, Rect, RgbTracker};
+use rbtrack_firmware::cf::{run_cf, FirmwareCfTracker};
 use rbtrack_firmware::run::{run_all, FirmwareTracker};
 use rbtrack_firmware::scene::FRAME_BYTES;
 
@@ -23,6 +26,15 @@ pub mod abi;
 
 /// Particle counts the page offers.
 pub const PARTICLE_COUNTS: [usize; 4] = [25, 50, 100, 200];
+
+/// The trackers the page offers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A particle filter of a number of particles (one of [`PARTICLE_COUNTS`]).
+    Particles(Variant, usize),
+    /// The correlation-filter tracker at its defaults.
+    CorrelationFilter,
+}
 
 /// The largest frame side accepted, px.
 pub const MAX_SIDE: u32 = 4096;
@@ -100,39 +112,54 @@ impl Frames {
     }
 }
 
-/// A tracker of any particle count behind one interface.
+/// Any of the page's trackers behind one interface.
 trait Track {
-    fn start(
-        &mut self,
-        config: Config,
-        frame: &ImageView<'_, Rgb888>,
-        init: Ellipse,
-    ) -> Result<(), ConfigError>;
+    fn start(&mut self, frame: &ImageView<'_, Rgb888>, init: Ellipse) -> Result<(), ConfigError>;
     fn step(&mut self, frame: &ImageView<'_, Rgb888>) -> Estimate;
     fn estimate(&self) -> Estimate;
+    /// Frame pixels the last step read; 0 where the tracker does not count them.
     fn pixels_visited(&self) -> u32;
 }
 
-impl<const N: usize> Track for RgbTracker<N> {
-    fn start(
-        &mut self,
-        config: Config,
-        frame: &ImageView<'_, Rgb888>,
-        init: Ellipse,
-    ) -> Result<(), ConfigError> {
-        RgbTracker::start(self, config, frame, init)
+/// A particle filter and its configuration.
+struct Particles<const N: usize> {
+    tracker: RgbTracker<N>,
+    config: Config,
+}
+
+impl<const N: usize> Track for Particles<N> {
+    fn start(&mut self, frame: &ImageView<'_, Rgb888>, init: Ellipse) -> Result<(), ConfigError> {
+        self.tracker.start(self.config, frame, init)
     }
 
     fn step(&mut self, frame: &ImageView<'_, Rgb888>) -> Estimate {
-        RgbTracker::step(self, frame)
+        self.tracker.step(frame)
     }
 
     fn estimate(&self) -> Estimate {
-        RgbTracker::estimate(self)
+        self.tracker.estimate()
     }
 
     fn pixels_visited(&self) -> u32 {
-        RgbTracker::pixels_visited(self)
+        self.tracker.pixels_visited()
+    }
+}
+
+impl Track for FirmwareCfTracker {
+    fn start(&mut self, frame: &ImageView<'_, Rgb888>, init: Ellipse) -> Result<(), ConfigError> {
+        FirmwareCfTracker::start(self, CfConfig::default(), frame, Rect::from(init))
+    }
+
+    fn step(&mut self, frame: &ImageView<'_, Rgb888>) -> Estimate {
+        FirmwareCfTracker::step(self, frame)
+    }
+
+    fn estimate(&self) -> Estimate {
+        *FirmwareCfTracker::estimate(self)
+    }
+
+    fn pixels_visited(&self) -> u32 {
+        0
     }
 }
 
@@ -142,34 +169,38 @@ pub struct Session {
 }
 
 impl Session {
-    /// A tracker of `variant` with `particles` particles and the defaults (seed `seed`),
-    /// started on the 0-based box `(x, y, w, h)` (px) of `frame`: its inscribed ellipse,
-    /// as the host tool's `--init` takes it.
+    /// A tracker of `kind` at its defaults (the particle filters' random draws seeded by
+    /// `seed`), started on the 0-based box `(x, y, w, h)` (px) of `frame`: its inscribed
+    /// ellipse, as the host tool's `--init` takes it.
     pub fn start(
-        variant: Variant,
-        particles: usize,
+        kind: Kind,
         seed: u64,
         frame: &ImageView<'_, Rgb888>,
         (x, y, w, h): (f64, f64, f64, f64),
     ) -> Result<Self, WebError> {
-        let mut tracker: Box<dyn Track + Send> = match particles {
-            25 => Box::new(RgbTracker::<25>::unstarted()),
-            50 => Box::new(RgbTracker::<50>::unstarted()),
-            100 => Box::new(RgbTracker::<100>::unstarted()),
-            200 => Box::new(RgbTracker::<200>::unstarted()),
-            _ => return Err(WebError::Particles),
+        fn particles<const N: usize>(variant: Variant, seed: u64) -> Box<dyn Track + Send> {
+            let mut config = Config::new(variant);
+            config.seed = seed;
+            Box::new(Particles {
+                tracker: RgbTracker::<N>::unstarted(),
+                config,
+            })
+        }
+        let mut tracker: Box<dyn Track + Send> = match kind {
+            Kind::Particles(v, 25) => particles::<25>(v, seed),
+            Kind::Particles(v, 50) => particles::<50>(v, seed),
+            Kind::Particles(v, 100) => particles::<100>(v, seed),
+            Kind::Particles(v, 200) => particles::<200>(v, seed),
+            Kind::Particles(..) => return Err(WebError::Particles),
+            Kind::CorrelationFilter => Box::new(FirmwareCfTracker::unstarted()),
         };
-        let mut config = Config::new(variant);
-        config.seed = seed;
         let init = Ellipse {
             cx: Q16::from_f64(x + (w - 1.0) / 2.0),
             cy: Q16::from_f64(y + (h - 1.0) / 2.0),
             hx: Q16::from_f64(w / 2.0),
             hy: Q16::from_f64(h / 2.0),
         };
-        tracker
-            .start(config, frame, init)
-            .map_err(WebError::Config)?;
+        tracker.start(frame, init).map_err(WebError::Config)?;
         Ok(Self { tracker })
     }
 
@@ -195,6 +226,21 @@ pub fn firmware_checksum() -> Result<u64, ConfigError> {
     let mut frame = vec![0u8; FRAME_BYTES];
     let mut tracker = Box::new(FirmwareTracker::unstarted());
     let checksum = run_all(&mut tracker, &mut frame, NoCounter, |_, _| {})?;
+    Ok(checksum.value())
+}
+
+/// The correlation-filter firmware's run on the same scene (60 frames) and its checksum:
+/// the value `examples/cf_firmware.rs` prints in QEMU.
+pub fn cf_firmware_checksum() -> Result<u64, ConfigError> {
+    let mut frame = vec![0u8; FRAME_BYTES];
+    let mut tracker = Box::new(FirmwareCfTracker::unstarted());
+    let checksum = run_cf(
+        CfConfig::default(),
+        &mut tracker,
+        &mut frame,
+        NoCounter,
+        |_| {},
+    )?;
     Ok(checksum.value())
 }
 
@@ -225,7 +271,8 @@ mod tests {
         let view = frames.view().unwrap();
         assert_eq!((view.width(), view.height()), (64, 48));
         let box_ = (20.0, 16.0, 16.0, 16.0);
-        let mut session = Session::start(Variant::ColourPf, 50, 1, &view, box_).unwrap();
+        let mut session =
+            Session::start(Kind::Particles(Variant::ColourPf, 50), 1, &view, box_).unwrap();
         assert_eq!(session.estimate().ellipse.cx, Q16::from_f64(27.5));
         for x0 in [22, 24, 26] {
             square(&mut frames, x0);
@@ -244,7 +291,7 @@ mod tests {
         square(&mut frames, 20);
         let view = frames.view().unwrap();
         let start = |n, b| {
-            Session::start(Variant::Rbpf, n, 1, &view, b)
+            Session::start(Kind::Particles(Variant::Rbpf, n), 1, &view, b)
                 .err()
                 .map(WebError::code)
         };
@@ -254,14 +301,41 @@ mod tests {
         assert_eq!(start(25, (20.0, 16.0, 16.0, 16.0)), None);
     }
 
-    /// CI passes the checksum the firmware printed in QEMU; the page's run must give it.
+    /// CI passes the checksums the firmwares printed in QEMU; the page's runs must give them.
     #[test]
-    fn the_firmware_scene_gives_the_firmwares_checksum() {
-        let checksum = firmware_checksum().unwrap();
-        assert_eq!(firmware_checksum(), Ok(checksum), "deterministic");
-        match std::env::var("RBTRACK_FIRMWARE_CHECKSUM") {
-            Ok(qemu) => assert_eq!(format!("{checksum:#018x}"), qemu.trim()),
-            Err(_) => println!("no RBTRACK_FIRMWARE_CHECKSUM: {checksum:#018x} not compared"),
+    fn the_firmware_scene_gives_the_firmwares_checksums() {
+        for (run, var) in [
+            (
+                firmware_checksum as fn() -> Result<u64, ConfigError>,
+                "RBTRACK_FIRMWARE_CHECKSUM",
+            ),
+            (cf_firmware_checksum, "RBTRACK_CF_FIRMWARE_CHECKSUM"),
+        ] {
+            let checksum = run().unwrap();
+            assert_eq!(run(), Ok(checksum), "deterministic");
+            match std::env::var(var) {
+                Ok(qemu) => assert_eq!(format!("{checksum:#018x}"), qemu.trim(), "{var}"),
+                Err(_) => println!("no {var}: {checksum:#018x} not compared"),
+            }
+        }
+    }
+
+    #[test]
+    fn the_correlation_filter_follows_a_square() {
+        let mut frames = Frames::new();
+        square(&mut frames, 20);
+        let view = frames.view().unwrap();
+        let box_ = (20.0, 16.0, 16.0, 16.0);
+        let tiny = Session::start(Kind::CorrelationFilter, 1, &view, (20.0, 16.0, 1.0, 1.0));
+        assert_eq!(tiny.err().map(WebError::code), Some(-3));
+        let mut session = Session::start(Kind::CorrelationFilter, 1, &view, box_).unwrap();
+        for x0 in [22, 24, 26] {
+            square(&mut frames, x0);
+            let e = session.step(&frames.view().unwrap());
+            assert!(
+                (e.ellipse.cx.to_f64() - (x0 as f64 + 7.5)).abs() < 2.0,
+                "{e:?}"
+            );
         }
     }
 }

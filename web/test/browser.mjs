@@ -3,14 +3,14 @@
 // firmware's scene, writes the boxes (the host tool's --per-frame CSV) and a screenshot,
 // and prints one JSON line of figures.
 //
-//   node web/test/browser.mjs --dist web/dist --frames DIR --box x,y,w,h [--tracker 0|1]
+//   node web/test/browser.mjs --dist web/dist --frames DIR --box x,y,w,h [--tracker 0|1|2]
 //       [--particles N] [--out DIR]
-//   node web/test/browser.mjs --dist web/dist --video FILE --box x,y,w,h [--tracker 0|1]
+//   node web/test/browser.mjs --dist web/dist --video FILE --box x,y,w,h [--tracker 0|1|2]
 //       [--particles N] [--out DIR]
 //   node web/test/browser.mjs --dist web/dist --webcam SECONDS --box x,y,w,h ...
 //
 // --frames: PNG frames, tracked in name order; --box: the first frame's box, 0-based px;
-// --tracker: 0 the RBPF, 1 the colour PF (default). With --video instead, the page is used
+// --tracker: 0 the RBPF, 1 the colour PF (default), 2 the correlation filter. With --video instead, the page is used
 // as a person would: the file opened, the box dragged with the mouse, Track pressed, the
 // video played to its end; the figures then include the frames tracked. With --webcam, the
 // same on Chromium's fake camera (a test pattern), tracked for that many seconds. The
@@ -93,10 +93,14 @@ try {
     });
   }
   const checksum = await page.evaluate(() => window.rbtrackChecksum());
+  const cfChecksum = await page.evaluate(() => window.rbtrackCfChecksum());
 
-  await page.evaluate((v) => {
-    document.getElementById("checksum-out").textContent = `checksum ${v}`;
-  }, checksum);
+  await page.evaluate(
+    ([v, cf]) => {
+      document.getElementById("checksum-out").textContent = `checksum ${v}, correlation filter ${cf}`;
+    },
+    [checksum, cfChecksum],
+  );
   await mkdir(out, { recursive: true });
   await writeFile(join(out, "boxes.csv"), run.csv);
   await page.screenshot({ path: join(out, "screenshot.png"), fullPage: true });
@@ -121,7 +125,9 @@ try {
   }
   if (errors.length) throw new Error(`the page reported: ${errors.join("; ")}`);
   const { csv, ...figures } = run;
-  console.log(JSON.stringify({ ...figures, frames, fps: 1000 / run.frameMs, checksum, offline }));
+  console.log(
+    JSON.stringify({ ...figures, frames, fps: 1000 / run.frameMs, checksum, cf_checksum: cfChecksum, offline }),
+  );
 } finally {
   await browser.close();
   if (server.listening) server.close();

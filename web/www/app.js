@@ -115,7 +115,8 @@ function stats(r) {
       `${(1000 / (frameMs / steps)).toFixed(0)} frames/s with the canvas read`
     : "";
   $("stats").innerHTML =
-    `frame ${rows.length}, ${work.width}x${work.height} px: ${status}, ${r.pixels} pixels read${timing}`;
+    `frame ${rows.length}, ${work.width}x${work.height} px: ${status}` +
+    (r.pixels ? `, ${r.pixels} pixels read` : "") + timing;
 }
 
 /** Every presented video frame while tracking (each frame once). */
@@ -231,8 +232,10 @@ $("csv").addEventListener("click", () => {
 $("checksum").addEventListener("click", () => {
   const t0 = performance.now();
   const value = core.checksum();
+  const cf = core.cfChecksum();
   $("checksum-out").textContent =
-    `checksum ${value} (${(performance.now() - t0).toFixed(0)} ms for 120 steps)`;
+    `checksum ${value}, correlation filter ${cf} ` +
+    `(${(performance.now() - t0).toFixed(0)} ms for 180 steps)`;
 });
 
 /**
@@ -273,4 +276,5 @@ window.rbtrackStats = () => ({
   csv: [CSV_HEADER, ...rows].join("\n") + "\n",
 });
 window.rbtrackChecksum = () => core.checksum();
+window.rbtrackCfChecksum = () => core.cfChecksum();
 window.rbtrackReady = true;

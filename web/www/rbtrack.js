@@ -14,6 +14,11 @@ const ERRORS = {
   "-6": "not started",
 };
 
+/** A u64 the module returned (as a BigInt) as 0x + 16 hex digits. */
+function hex64(v) {
+  return "0x" + BigInt.asUintN(64, v).toString(16).padStart(16, "0");
+}
+
 /** Loads the module at `url`; returns the tracker's interface. */
 export async function load(url) {
   const bytes = await (await fetch(url)).arrayBuffer();
@@ -31,7 +36,11 @@ export async function load(url) {
       if (ptr === 0) throw new Error(ERRORS["-2"]);
       new Uint8Array(x.memory.buffer, ptr, image.data.length).set(image.data);
     },
-    /** Starts on the frame given: tracker 0 RBPF or 1 colour PF, the 0-based box [x, y, w, h], px. */
+    /**
+     * Starts on the frame given: tracker 0 RBPF, 1 colour PF or 2 correlation filter (which
+     * takes no particle count and reads 0 pixels in the report), the 0-based box
+     * [x, y, w, h], px.
+     */
     start(tracker, particles, seed, box) {
       check(x.rb_start(tracker, particles, seed, ...box));
     },
@@ -48,10 +57,13 @@ export async function load(url) {
         confidence: r[6], status: STATUS[r[7]] ?? "lost", pixels: r[8], bits,
       };
     },
-    /** The example firmware's scene, both trackers: the checksum QEMU prints, as 0x + 16 hex digits. */
+    /** The example firmware's scene, both particle filters: the checksum QEMU prints, as 0x + 16 hex digits. */
     checksum() {
-      const value = BigInt.asUintN(64, x.rb_firmware_checksum());
-      return "0x" + value.toString(16).padStart(16, "0");
+      return hex64(x.rb_firmware_checksum());
+    },
+    /** The correlation-filter firmware's run of the same scene: the checksum QEMU prints. */
+    cfChecksum() {
+      return hex64(x.rb_cf_firmware_checksum());
     },
   };
 }
