@@ -475,15 +475,14 @@ impl Grid {
             .enumerate()
             .take(self.cols)
         {
-            // Bins < 3.8e8: the energy < 1.5e17 and 16 times it fits.
-            let e = bins
-                .iter()
-                .fold(0u64, |e, &b| e.saturating_add(u64::from(b) * u64::from(b)));
+            // Bins < 3.8e8: the energy (below 9 2^57) fits.
+            let e: u64 = bins.iter().map(|&b| u64::from(b) * u64::from(b)).sum();
             *s = (sqrt_u64_q8(e.saturating_mul(16)) >> 8) as u32;
             let over_s = div_u64_u32(1 << 49, *s); // 2^47 / s, s Q2
             if let Some(c) = out.get_mut(x) {
                 for (t, &b) in c[1..].iter_mut().zip(bins.iter()) {
-                    *t = (u64::from(b).saturating_mul(over_s) >> 32).min(i16::MAX as u64) as i16;
+                    // b <= s / 4 (to the root's rounding): below 2^46.
+                    *t = ((u64::from(b) * over_s) >> 32).min(i16::MAX as u64) as i16;
                 }
             }
             *bins = [0; BINS];
@@ -508,12 +507,13 @@ impl Grid {
             let s = u64::from(energy[y % 3].get(x).copied().unwrap_or(0));
             // s n, Q16: at most 1, as s is at most the root of the block's energy.
             let ratio = |n: u64| (s.saturating_mul(n) >> 44).min(1 << 16) as u32;
-            let ratios = [left[0], left[1], right[0], right[1]].map(ratio);
-            if let Some(c) = out.get_mut(x) {
-                for t in c[1..].iter_mut() {
+            let [a, b, c, d] = [left[0], left[1], right[0], right[1]].map(ratio);
+            if let Some(cell) = out.get_mut(x) {
+                for t in cell[1..].iter_mut() {
                     // t (Q15, at most 1) times a ratio, Q31, clipped; 4 of them fit.
                     let t_q15 = u32::from(t.unsigned_abs());
-                    let sum: u32 = ratios.iter().map(|&r| (t_q15 * r).min(CLIP)).sum();
+                    let clipped = |r: u32| (t_q15 * r).min(CLIP);
+                    let sum = clipped(a) + clipped(b) + clipped(c) + clipped(d);
                     // Half the sum, Q31 to Q15.
                     *t = ((sum + (1 << 16)) >> 17) as i16;
                 }
