@@ -79,28 +79,12 @@ pub struct CfConfig {
 }
 
 impl CfConfig {
-    /// Every field zero: the configuration of an unstarted tracker.
-    const UNSET: Self = Self {
-        padding: Q16::ZERO,
-        cell: 0,
-        sigma: Q16::ZERO,
-        lambda: 0,
-        cf_rate: Q16::ZERO,
-        colour_rate: Q16::ZERO,
-        inner_padding: Q16::ZERO,
-        merge: Q16::ZERO,
-        scale: ScaleSettings::UNSET,
-        scale_rate: Q16::ZERO,
-        max_scale_change: Q16::ZERO,
-        learn_above: Q16::ZERO,
-        uncertain_below: Q16::ZERO,
-        lost_below: Q16::ZERO,
-    };
-}
-
-impl Default for CfConfig {
-    fn default() -> Self {
-        let q = |v: f64| Q16::from_f64(v);
+    /// The defaults, evaluated at compile time (a firmware links no floating point).
+    const DEFAULT: Self = {
+        /// A positive value in Q16.16, rounded to nearest.
+        const fn q(v: f64) -> Q16 {
+            Q16::from_bits((v * 65536.0 + 0.5) as i32)
+        }
         Self {
             padding: Q16::ONE,
             cell: 4,
@@ -124,6 +108,30 @@ impl Default for CfConfig {
             uncertain_below: q(0.3),
             lost_below: q(0.2),
         }
+    };
+
+    /// Every field zero: the configuration of an unstarted tracker.
+    const UNSET: Self = Self {
+        padding: Q16::ZERO,
+        cell: 0,
+        sigma: Q16::ZERO,
+        lambda: 0,
+        cf_rate: Q16::ZERO,
+        colour_rate: Q16::ZERO,
+        inner_padding: Q16::ZERO,
+        merge: Q16::ZERO,
+        scale: ScaleSettings::UNSET,
+        scale_rate: Q16::ZERO,
+        max_scale_change: Q16::ZERO,
+        learn_above: Q16::ZERO,
+        uncertain_below: Q16::ZERO,
+        lost_below: Q16::ZERO,
+    };
+}
+
+impl Default for CfConfig {
+    fn default() -> Self {
+        Self::DEFAULT
     }
 }
 
