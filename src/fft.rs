@@ -9,7 +9,8 @@
 //! `N`), so that `inverse(forward(x)) = x`. Decimation in time: a bit reversal, a radix-2
 //! stage of butterflies 1 apart, radix-4 stages (two radix-2 stages at once, butterflies
 //! 2 and 4 apart, then 8 and 16), and a last radix-2 stage where one is left (`N` = 4, 16,
-//! 64).
+//! 64). The inverse is the forward transform of the conjugate, conjugated, so one
+//! transform's code serves both (7 KB less flash on the Cortex-M4 than a second copy).
 //!
 //! # Scale: block floating point
 //! Samples are `i32` ([`Complex`]), twiddles Q31. Before each stage the largest component
@@ -202,24 +203,21 @@ fn log2_points<const N: usize>() -> i32 {
 /// What a butterfly transforms: one complex value, or a row of them (the columns of a
 /// grid, all at once).
 trait Lanes {
-    /// `(a, b) <- ((a + r w b) / 2^S, (a - r w b) / 2^S)`, rounded, with `w = cos -+ i sin`
-    /// (forward or inverse; `w = 1` exactly if `ONE`) and `r = 1`, or if `QUARTER` the
-    /// quarter turn `-+ i` (the twiddle `N/4` further on); the outputs' magnitude bits ORed.
-    fn butterfly<const INVERSE: bool, const ONE: bool, const QUARTER: bool, const S: u32>(
+    /// `(a, b) <- ((a + r w b) / 2^S, (a - r w b) / 2^S)`, rounded, with `w = cos - i sin`
+    /// (`w = 1` exactly if `ONE`) and `r = 1`, or if `QUARTER` the quarter turn `-i` (the
+    /// twiddle `N/4` further on); the outputs' magnitude bits ORed.
+    fn butterfly<const ONE: bool, const QUARTER: bool, const S: u32>(
         a: &mut Self,
         b: &mut Self,
         w: (i32, i32),
     ) -> u32;
 
     /// The radix-4 butterfly of the quarters `q` (two radix-2 stages, `h` and `2 h` apart,
-    /// at once): `u = (q0, W^2j q1, W^j q2, W^3j q3) / 2^S` (`w` = `W^j, W^2j, W^3j`, conjugated
-    /// for the inverse; all 1 exactly if `ONE`), rounded, then `q0 = u0 + u1 + u2 + u3`,
-    /// `q1 = u0 - u1 -+ i (u2 - u3)`, `q2 = u0 + u1 - u2 - u3`, `q3 = u0 - u1 +- i (u2 - u3)`;
-    /// the outputs' magnitude bits ORed.
-    fn butterfly4<const INVERSE: bool, const ONE: bool, const S: u32>(
-        q: [&mut Self; 4],
-        w: &[(i32, i32); 3],
-    ) -> u32;
+    /// at once): `u = (q0, W^2j q1, W^j q2, W^3j q3) / 2^S` (`w` = `W^j, W^2j, W^3j`; all 1
+    /// exactly if `ONE`), rounded, then `q0 = u0 + u1 + u2 + u3`, `q1 = u0 - u1 - i (u2 -
+    /// u3)`, `q2 = u0 + u1 - u2 - u3`, `q3 = u0 - u1 + i (u2 - u3)`; the outputs' magnitude
+    /// bits ORed.
+    fn butterfly4<const ONE: bool, const S: u32>(q: [&mut Self; 4], w: &[(i32, i32); 3]) -> u32;
 }
 
 /// `x / 2^S`, rounded to nearest (half up; `i32::MAX` rounds down).
@@ -255,20 +253,17 @@ fn q31_dot<const S: u32>(x: i32, y: i32, cos: i32, sin: i32) -> i32 {
     (((1i64 << (shift - 1)) + x as i64 * cos as i64 + y as i64 * sin as i64) >> shift) as i32
 }
 
-/// `w b / 2^S` (`w = cos -+ i sin`, forward or inverse; `b / 2^S` exactly if `ONE`), each
+/// `w b / 2^S` (`w = cos - i sin`; `b / 2^S` exactly if `ONE`), each
 /// part rounded: `|.| <= sqrt 2 2^31 / 2^S`.
 #[inline]
-fn twiddled<const INVERSE: bool, const ONE: bool, const S: u32>(
-    b: Complex,
-    w: (i32, i32),
-) -> Complex {
+fn twiddled<const ONE: bool, const S: u32>(b: Complex, w: (i32, i32)) -> Complex {
     if ONE {
         Complex::new(
             shift_round_to_zero::<S>(b.re),
             shift_round_to_zero::<S>(b.im),
         )
     } else {
-        let sin = if INVERSE { -w.1 } else { w.1 };
+        let sin = w.1;
         Complex::new(
             q31_dot::<S>(b.re, b.im, w.0, sin),
             q31_dot::<S>(b.im, b.re, w.0, sin.wrapping_neg()),
@@ -279,25 +274,21 @@ fn twiddled<const INVERSE: bool, const ONE: bool, const S: u32>(
 impl Lanes for Complex {
     // Inlined into the loops, or the quarters pass through memory.
     #[inline(always)]
-    fn butterfly4<const INVERSE: bool, const ONE: bool, const S: u32>(
+    fn butterfly4<const ONE: bool, const S: u32>(
         [q0, q1, q2, q3]: [&mut Self; 4],
         w: &[(i32, i32); 3],
     ) -> u32 {
         // Terms of at most `sqrt 2 2^28 + 1/2`, sums of four of them below `1.5e9` (module
         // doc): the adds wrap nowhere.
         let u0 = Self::new(shift_round::<S>(q0.re), shift_round::<S>(q0.im));
-        let u1 = twiddled::<INVERSE, ONE, S>(*q1, w[1]);
+        let u1 = twiddled::<ONE, S>(*q1, w[1]);
         let (are, aim) = (u0.re.wrapping_add(u1.re), u0.im.wrapping_add(u1.im));
         let (bre, bim) = (u0.re.wrapping_sub(u1.re), u0.im.wrapping_sub(u1.im));
-        let u2 = twiddled::<INVERSE, ONE, S>(*q2, w[0]);
-        let u3 = twiddled::<INVERSE, ONE, S>(*q3, w[2]);
+        let u2 = twiddled::<ONE, S>(*q2, w[0]);
+        let u3 = twiddled::<ONE, S>(*q3, w[2]);
         let (cre, cim) = (u2.re.wrapping_add(u3.re), u2.im.wrapping_add(u3.im));
-        // `-+ i (u2 - u3)`: `(im, -re)` of `u2 - u3` forward, `(-im, re)` inverse.
-        let (dre, dim) = if INVERSE {
-            (u3.im.wrapping_sub(u2.im), u2.re.wrapping_sub(u3.re))
-        } else {
-            (u2.im.wrapping_sub(u3.im), u3.re.wrapping_sub(u2.re))
-        };
+        // `-i (u2 - u3)`: `(im, -re)` of `u2 - u3`.
+        let (dre, dim) = (u2.im.wrapping_sub(u3.im), u3.re.wrapping_sub(u2.re));
         *q0 = Self::new(are.wrapping_add(cre), aim.wrapping_add(cim));
         *q2 = Self::new(are.wrapping_sub(cre), aim.wrapping_sub(cim));
         let mag = q0.magnitude_bits() | q2.magnitude_bits();
@@ -307,27 +298,22 @@ impl Lanes for Complex {
     }
 
     #[inline]
-    fn butterfly<const INVERSE: bool, const ONE: bool, const QUARTER: bool, const S: u32>(
+    fn butterfly<const ONE: bool, const QUARTER: bool, const S: u32>(
         a: &mut Self,
         b: &mut Self,
         w: (i32, i32),
     ) -> u32 {
-        let Self { re: tre, im: tim } = twiddled::<INVERSE, ONE, S>(*b, w);
-        // `r t`: `-i t = (tim, -tre)` forward, `i t = (-tim, tre)` inverse, folded into
-        // the adds (no negation to overflow).
+        let Self { re: tre, im: tim } = twiddled::<ONE, S>(*b, w);
+        // `r t`: `-i t = (tim, -tre)`, folded into the adds (no negation to overflow).
         let (are, aim) = (shift_round::<S>(a.re), shift_round::<S>(a.im));
-        let (plus, minus) = match (QUARTER, INVERSE) {
-            (false, _) => (
+        let (plus, minus) = match QUARTER {
+            false => (
                 Self::new(are.saturating_add(tre), aim.saturating_add(tim)),
                 Self::new(are.saturating_sub(tre), aim.saturating_sub(tim)),
             ),
-            (true, false) => (
+            true => (
                 Self::new(are.saturating_add(tim), aim.saturating_sub(tre)),
                 Self::new(are.saturating_sub(tim), aim.saturating_add(tre)),
-            ),
-            (true, true) => (
-                Self::new(are.saturating_sub(tim), aim.saturating_add(tre)),
-                Self::new(are.saturating_add(tim), aim.saturating_sub(tre)),
             ),
         };
         *a = plus;
@@ -338,18 +324,18 @@ impl Lanes for Complex {
 
 impl<const C: usize> Lanes for [Complex; C] {
     #[inline]
-    fn butterfly<const INVERSE: bool, const ONE: bool, const QUARTER: bool, const S: u32>(
+    fn butterfly<const ONE: bool, const QUARTER: bool, const S: u32>(
         a: &mut Self,
         b: &mut Self,
         w: (i32, i32),
     ) -> u32 {
         a.iter_mut().zip(b.iter_mut()).fold(0, |mag, (a, b)| {
-            mag | Complex::butterfly::<INVERSE, ONE, QUARTER, S>(a, b, w)
+            mag | Complex::butterfly::<ONE, QUARTER, S>(a, b, w)
         })
     }
 
     #[inline]
-    fn butterfly4<const INVERSE: bool, const ONE: bool, const S: u32>(
+    fn butterfly4<const ONE: bool, const S: u32>(
         [q0, q1, q2, q3]: [&mut Self; 4],
         w: &[(i32, i32); 3],
     ) -> u32 {
@@ -359,7 +345,7 @@ impl<const C: usize> Lanes for [Complex; C] {
         while let (Some(a0), Some(a1), Some(a2), Some(a3)) =
             (i0.next(), i1.next(), i2.next(), i3.next())
         {
-            mag |= Complex::butterfly4::<INVERSE, ONE, S>([a0, a1, a2, a3], w);
+            mag |= Complex::butterfly4::<ONE, S>([a0, a1, a2, a3], w);
         }
         mag
     }
@@ -410,10 +396,7 @@ fn bit_reverse<T, const N: usize>(items: &mut [T; N]) {
 /// One stage of butterflies `half = 2^k` apart, shifting by `S`, over every array of `batch`:
 /// the outputs' magnitude bits ORed. The butterfly `j + half / 2` of a group takes the
 /// twiddle of `j` turned by a quarter, and those of `j = 0` and `half / 2` do not multiply.
-fn stage<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
-    batch: &mut [[T; N]],
-    k: i32,
-) -> u32 {
+fn stage<T: Lanes, const N: usize, const S: u32>(batch: &mut [[T; N]], k: i32) -> u32 {
     let mut mag = 0;
     let half = 1 << k;
     let quarter = half / 2;
@@ -424,7 +407,7 @@ fn stage<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
             continue;
         };
         if let ([a], [b]) = (&mut *lo, &mut *hi) {
-            mag |= T::butterfly::<INVERSE, true, false, S>(a, b, (0, 0));
+            mag |= T::butterfly::<true, false, S>(a, b, (0, 0));
             continue;
         }
         let (Some((lo0, lo1)), Some((hi0, hi1))) = (
@@ -434,15 +417,15 @@ fn stage<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
             continue;
         };
         if let (Some((a, lo0)), Some((b, hi0))) = (lo0.split_first_mut(), hi0.split_first_mut()) {
-            mag |= T::butterfly::<INVERSE, true, false, S>(a, b, (0, 0));
+            mag |= T::butterfly::<true, false, S>(a, b, (0, 0));
             for ((a, b), w) in lo0.iter_mut().zip(hi0).zip(twiddles) {
-                mag |= T::butterfly::<INVERSE, false, false, S>(a, b, *w);
+                mag |= T::butterfly::<false, false, S>(a, b, *w);
             }
         }
         if let (Some((a, lo1)), Some((b, hi1))) = (lo1.split_first_mut(), hi1.split_first_mut()) {
-            mag |= T::butterfly::<INVERSE, true, true, S>(a, b, (0, 0));
+            mag |= T::butterfly::<true, true, S>(a, b, (0, 0));
             for ((a, b), w) in lo1.iter_mut().zip(hi1).zip(twiddles) {
-                mag |= T::butterfly::<INVERSE, false, true, S>(a, b, *w);
+                mag |= T::butterfly::<false, true, S>(a, b, *w);
             }
         }
     }
@@ -452,10 +435,7 @@ fn stage<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
 /// One radix-4 stage, quarters of `h = 2^k` points, `k > 0` (the radix-2 stages `h` and
 /// `2 h` apart at once), shifting by `S`, over every array of `batch`: the outputs'
 /// magnitude bits ORed.
-fn stage4<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
-    batch: &mut [[T; N]],
-    k: i32,
-) -> u32 {
+fn stage4<T: Lanes, const N: usize, const S: u32>(batch: &mut [[T; N]], k: i32) -> u32 {
     let mut mag = 0;
     let h = 1 << k;
     let twiddles = TWIDDLES4
@@ -478,13 +458,13 @@ fn stage4<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
         ) else {
             continue;
         };
-        mag |= T::butterfly4::<INVERSE, true, S>([a0, a1, a2, a3], &[(0, 0); 3]);
+        mag |= T::butterfly4::<true, S>([a0, a1, a2, a3], &[(0, 0); 3]);
         let quarters = q0
             .iter_mut()
             .zip(q1.iter_mut())
             .zip(q2.iter_mut().zip(q3.iter_mut()));
         for (((a0, a1), (a2, a3)), w) in quarters.zip(twiddles) {
-            mag |= T::butterfly4::<INVERSE, false, S>([a0, a1, a2, a3], w);
+            mag |= T::butterfly4::<false, S>([a0, a1, a2, a3], w);
         }
     }
     mag
@@ -493,10 +473,7 @@ fn stage4<T: Lanes, const N: usize, const INVERSE: bool, const S: u32>(
 /// The transforms of every array of `batch` (decimation in time: bit reversal, then
 /// `log2 N` stages), sharing one block exponent. `mag`: the inputs' magnitude bits ORed.
 /// Returns the shifts applied and the outputs' magnitude bits.
-fn transform<T: Lanes, const N: usize, const INVERSE: bool>(
-    batch: &mut [[T; N]],
-    mut mag: u32,
-) -> (i32, u32) {
+fn transform<T: Lanes, const N: usize>(batch: &mut [[T; N]], mut mag: u32) -> (i32, u32) {
     for items in batch.iter_mut() {
         bit_reverse(items);
     }
@@ -511,18 +488,18 @@ fn transform<T: Lanes, const N: usize, const INVERSE: bool>(
         (s, mag, next) = if k > 0 && k + 2 <= log2_points::<N>() {
             let s = stage_shift4(mag);
             let mag = match s {
-                0 => stage4::<T, N, INVERSE, 0>(batch, k),
-                1 => stage4::<T, N, INVERSE, 1>(batch, k),
-                2 => stage4::<T, N, INVERSE, 2>(batch, k),
-                _ => stage4::<T, N, INVERSE, 3>(batch, k),
+                0 => stage4::<T, N, 0>(batch, k),
+                1 => stage4::<T, N, 1>(batch, k),
+                2 => stage4::<T, N, 2>(batch, k),
+                _ => stage4::<T, N, 3>(batch, k),
             };
             (s, mag, k + 2)
         } else {
             let s = stage_shift(mag);
             let mag = match s {
-                0 => stage::<T, N, INVERSE, 0>(batch, k),
-                1 => stage::<T, N, INVERSE, 1>(batch, k),
-                _ => stage::<T, N, INVERSE, 2>(batch, k),
+                0 => stage::<T, N, 0>(batch, k),
+                1 => stage::<T, N, 1>(batch, k),
+                _ => stage::<T, N, 2>(batch, k),
             };
             (s, mag, k + 1)
         };
@@ -536,47 +513,58 @@ fn transform<T: Lanes, const N: usize, const INVERSE: bool>(
 /// transform is the output times `2^e`, `0 <= e <= 2 log2 N`).
 pub fn forward<const N: usize>(data: &mut [Complex; N]) -> i32 {
     let mag = magnitude_bits(data);
-    transform::<Complex, N, false>(core::slice::from_mut(data), mag).0
+    transform::<Complex, N>(core::slice::from_mut(data), mag).0
 }
 
 /// Inverse transform of `data` in place, `1/N` included; returns the block exponent `e`
-/// (the exact inverse is the output times `2^e`, `-log2 N <= e <= log2 N`).
+/// (the exact inverse is the output times `2^e`, `-log2 N <= e <= log2 N`). The forward
+/// transform of the conjugate, conjugated: one transform's code serves both.
 pub fn inverse<const N: usize>(data: &mut [Complex; N]) -> i32 {
-    let mag = magnitude_bits(data);
-    transform::<Complex, N, true>(core::slice::from_mut(data), mag).0 - log2_points::<N>()
+    conjugate(data);
+    let e = forward(data);
+    conjugate(data);
+    e - log2_points::<N>()
 }
 
 /// 2-D forward transform of an `R x C` grid in place (rows, then columns); returns the
 /// block exponent of the whole grid, as [`forward`]'s.
 pub fn forward_2d<const R: usize, const C: usize>(data: &mut [[Complex; C]; R]) -> i32 {
-    transform_2d::<R, C, false>(data)
+    transform_2d::<R, C>(data)
 }
 
 /// 2-D inverse transform of an `R x C` grid in place, `1/(R C)` included; returns the
 /// block exponent of the whole grid, as [`inverse`]'s.
 pub fn inverse_2d<const R: usize, const C: usize>(data: &mut [[Complex; C]; R]) -> i32 {
-    transform_2d::<R, C, true>(data) - log2_points::<R>() - log2_points::<C>()
+    conjugate(data.as_flattened_mut());
+    let e = forward_2d(data);
+    conjugate(data.as_flattened_mut());
+    e - log2_points::<R>() - log2_points::<C>()
+}
+
+/// Negates the imaginary parts, saturating (`i32::MIN` becomes `i32::MAX`, 1 LSB off).
+fn conjugate(data: &mut [Complex]) {
+    for v in data {
+        v.im = v.im.saturating_neg();
+    }
 }
 
 /// The rows' transforms, then the columns', of `data`: the shifts of both. A square grid's
 /// rows are transformed as the columns of its transpose, the same arithmetic in fewer
 /// instructions (a butterfly of columns runs along two whole rows with one twiddle): at
 /// 32 x 32, 170,720 with the two transposes against 177,680 row by row.
-fn transform_2d<const R: usize, const C: usize, const INVERSE: bool>(
-    data: &mut [[Complex; C]; R],
-) -> i32 {
+fn transform_2d<const R: usize, const C: usize>(data: &mut [[Complex; C]; R]) -> i32 {
     let mag = magnitude_bits(data.as_flattened());
     let square: Option<&mut [[Complex; R]; C]> = (data as &mut dyn Any).downcast_mut();
     let (rows, mag) = match square {
         Some(grid) => {
             transpose(grid);
-            let rows = transform::<[Complex; R], C, INVERSE>(core::slice::from_mut(grid), mag);
+            let rows = transform::<[Complex; R], C>(core::slice::from_mut(grid), mag);
             transpose(grid);
             rows
         }
-        None => transform::<Complex, C, INVERSE>(data, mag),
+        None => transform::<Complex, C>(data, mag),
     };
-    let (cols, _) = transform::<[Complex; C], R, INVERSE>(core::slice::from_mut(data), mag);
+    let (cols, _) = transform::<[Complex; C], R>(core::slice::from_mut(data), mag);
     rows + cols
 }
 

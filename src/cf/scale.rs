@@ -535,22 +535,26 @@ fn parabola_peak(r: &[i32], at: usize) -> Q16 {
     Q16::saturate(x.clamp(-half, half))
 }
 
-/// `step^x`, Q16.16, for `step` in `(1, 1.5]` and `x` (Q16.16): the integer power and the
-/// binomial series of `(1 + u)^f` (`u = step - 1`, `f` the fraction of `x`), 12 terms, in
-/// Q30; saturates above `2^15`.
+/// `step^x`, Q16.16, for `step` in `[1, 1.5]` (clamped into it) and `x` (Q16.16): the
+/// integer power and the binomial series of `(1 + u)^f` (`u = step - 1`, `f` the fraction
+/// of `x`), 12 terms, in Q30; saturates above `2^15`.
 pub fn pow(step: Q16, x: Q16) -> Q16 {
-    let one: i128 = 1 << POW_BITS;
-    let base = i128::from(step.to_bits().max(0)) << (POW_BITS - Q16::FRAC_BITS);
+    let one: i64 = 1 << POW_BITS;
+    let step = step.to_bits().clamp(1 << 16, 3 << 15);
+    let base = i64::from(step) << (POW_BITS - Q16::FRAC_BITS);
     let u = base - one;
-    let f = i128::from(x.to_bits() & 0xffff) << (POW_BITS - Q16::FRAC_BITS);
-    // (1 + u)^f = sum_k C(f, k) u^k, C(f, k + 1) = C(f, k) (f - k) / (k + 1).
+    let f = i64::from(x.to_bits() & 0xffff) << (POW_BITS - Q16::FRAC_BITS);
+    // (1 + u)^f = sum_k C(f, k) u^k, C(f, k + 1) = C(f, k) (f - k) / (k + 1): with
+    // `0 <= f < 1` the ratio `(f - k) / (k + 1)` is within 1 and `|u| <= 1/2`, so the terms
+    // shrink from 1 and every product fits an `i64`.
     let mut term = one;
     let mut frac = one;
-    for k in 0..12i128 {
-        term = (((term * (f - k * one)) >> POW_BITS) * u) >> POW_BITS;
-        term = term.checked_div(k + 1).unwrap_or(0);
+    for k in 0..12i64 {
+        let ratio = (f - k * one) / (k + 1);
+        term = (((term * ratio) >> POW_BITS) * u) >> POW_BITS;
         frac += term;
     }
+    let (one, base, frac) = (i128::from(one), i128::from(base), i128::from(frac));
     let cap = one << 40;
     let mut whole = one;
     for _ in 0..x.floor_int().unsigned_abs().min(64) {

@@ -155,7 +155,11 @@ impl CfConfig {
             "inner_padding",
         )?;
         check(unit(self.merge), "merge")?;
-        check(self.scale.step > Q16::ONE, "scale.step")?;
+        let step = self.scale.step;
+        check(
+            step > Q16::ONE && step <= Q16::from_ratio(3, 2),
+            "scale.step",
+        )?;
         check(unit(self.scale_rate), "scale_rate")?;
         check(self.max_scale_change >= Q16::ONE, "max_scale_change")?;
         check(unit(self.uncertain_below), "uncertain_below")?;
@@ -694,11 +698,23 @@ mod tests {
             ..CfConfig::default()
         };
         let good = CfConfig::default();
+        let steep = CfConfig {
+            scale: ScaleSettings {
+                step: Q16::from_ratio(8, 5),
+                ..good.scale
+            },
+            ..good
+        };
         let cases = [
             (
                 bad,
                 Rect::new(20, 26, 16, 20),
                 ConfigError::OutOfRange("merge"),
+            ),
+            (
+                steep,
+                Rect::new(20, 26, 16, 20),
+                ConfigError::OutOfRange("scale.step"),
             ),
             (good, Rect::new(20, 26, 3, 20), ConfigError::InitialTooSmall),
             (
