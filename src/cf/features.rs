@@ -268,7 +268,7 @@ impl Iterator for Axis {
 /// The patch row of row taps `ty` along `xs`'s first `out.len()` column taps, luma in Q8.
 fn sample_row<P: PixelFormat>(frame: &ImageView<'_, P>, xs: Axis, ty: Taps, out: &mut [u16]) {
     let [top, bottom] = ty.rows(frame);
-    let (fy, gy) = (u64::from(ty.f), u64::from((1 << 24) - ty.f));
+    let (w_top, w_bottom) = (u64::from((1 << 24) - ty.f), u64::from(ty.f));
     for (v, tx) in out.iter_mut().zip(xs) {
         let (x0, x1) = (
             frame.clamp(tx.first, 0).0,
@@ -280,7 +280,7 @@ fn sample_row<P: PixelFormat>(frame: &ImageView<'_, P>, xs: Axis, ty: Taps, out:
             u64::from(((1 << 24) - tx.f) * l0 + tx.f * l1)
         };
         // Below 255 2^48.
-        let acc = gy * along(top) + fy * along(bottom);
+        let acc = w_top * along(top) + w_bottom * along(bottom);
         *v = ((acc + (1 << 39)) >> 40).min(u64::from(u16::MAX)) as u16;
     }
 }
