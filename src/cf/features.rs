@@ -43,10 +43,11 @@
 //! Working memory, on the stack: three patch rows (`3 x 512` u16: the row below is
 //! sampled before the gradients of a row are taken), the histograms of two cell rows
 //! (`2 x 66 x 9` u32: a pixel row reaches only the cell rows on either side of it, and a
-//! padding cell at either end) and three rows of root energies (`3 x 64` u32: a cell row's
-//! normalisers need the rows above and below), 8,592 bytes; the luma sums of a cell row
-//! are kept in `out` until it is complete. On the Cortex-M4 (thumbv7em, opt-level `s`)
-//! `extract` takes 8,880 bytes and 9,156 with its deepest calls.
+//! padding cell at either end), three rows of root energies (`3 x 64` u32: a cell row's
+//! normalisers need the rows above and below) and one row of block normalisers (`65` u64,
+//! each computed once), 9,112 bytes; the luma sums of a cell row are kept in `out` until it
+//! is complete. On the Cortex-M4 (thumbv7em, opt-level `s`) `extract` takes 9,400 bytes and
+//! 9,652 with its deepest calls.
 
 use crate::fixed::{div_u64_u32, sqrt_u64_q8, Q16};
 use crate::image::{ImageView, PixelFormat, Row};
@@ -129,6 +130,7 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
     let mut patch = [[0u16; MAX_PX]; 3];
     let mut hist = NO_HIST;
     let mut energy = [[0u32; MAX_CELLS]; 3];
+    let mut blocks = [0u64; MAX_CELLS + 1];
 
     if let Some(ty) = ys.next() {
         sample_row(frame, xs, ty, &mut patch[0][..w]);
@@ -177,11 +179,11 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
             let y = below - 1;
             grid.settle(&mut hist[y % 2], &mut energy[y % 3], out_row(out, y, cols));
             if y >= 1 {
-                grid.finish(y - 1, &energy, out_row(out, y - 1, cols));
+                grid.finish(y - 1, &energy, &mut blocks, out_row(out, y - 1, cols));
             }
         }
     }
-    grid.finish(rows - 1, &energy, out_row(out, rows - 1, cols));
+    grid.finish(rows - 1, &energy, &mut blocks, out_row(out, rows - 1, cols));
 }
 
 /// Row `y` of `out` (`cols` cells, fewer or none if `out` is short).
@@ -493,21 +495,29 @@ impl Grid {
     }
 
     /// Cell row `y`'s fHOG channels, from its bins over `s` in `out` and the root energies
-    /// of rows `y - 1..=y + 1` (ring of 3).
-    fn finish(&self, y: usize, energy: &[[u32; MAX_CELLS]; 3], out: &mut [Cell]) {
-        let mut left = [
-            self.normaliser(y, 0, energy),
-            self.normaliser(y + 1, 0, energy),
-        ];
+    /// of rows `y - 1..=y + 1` (ring of 3). `blocks` holds the normalisers of block row `y`
+    /// (those above the cells; filled here for `y = 0`) and leaves with those of `y + 1`,
+    /// so that each block's is computed once.
+    fn finish(
+        &self,
+        y: usize,
+        energy: &[[u32; MAX_CELLS]; 3],
+        blocks: &mut [u64; MAX_CELLS + 1],
+        out: &mut [Cell],
+    ) {
+        if y == 0 {
+            for (bx, n) in blocks.iter_mut().enumerate().take(self.cols + 1) {
+                *n = self.normaliser(0, bx, energy);
+            }
+        }
+        let mut below_left = self.normaliser(y + 1, 0, energy);
         for x in 0..self.cols {
-            let right = [
-                self.normaliser(y, x + 1, energy),
-                self.normaliser(y + 1, x + 1, energy),
-            ];
+            let below_right = self.normaliser(y + 1, x + 1, energy);
+            let above = |bx: usize| blocks.get(bx).copied().unwrap_or(0);
             let s = u64::from(energy[y % 3].get(x).copied().unwrap_or(0));
             // s n, Q16: at most 1, as s is at most the root of the block's energy.
             let ratio = |n: u64| (s.saturating_mul(n) >> 44).min(1 << 16) as u32;
-            let [a, b, c, d] = [left[0], left[1], right[0], right[1]].map(ratio);
+            let [a, b, c, d] = [above(x), below_left, above(x + 1), below_right].map(ratio);
             if let Some(cell) = out.get_mut(x) {
                 for t in cell[1..].iter_mut() {
                     // t (Q15, at most 1) times a ratio, Q31, clipped; 4 of them fit.
@@ -518,7 +528,14 @@ impl Grid {
                     *t = ((sum + (1 << 16)) >> 17) as i16;
                 }
             }
-            left = right;
+            // Block `x` above the cells is used up: it becomes the row below's.
+            if let Some(n) = blocks.get_mut(x) {
+                *n = below_left;
+            }
+            below_left = below_right;
+        }
+        if let Some(n) = blocks.get_mut(self.cols) {
+            *n = below_left;
         }
     }
 
