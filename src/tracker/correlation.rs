@@ -386,14 +386,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             self.centre.0.saturating_sub(previous.0),
             self.centre.1.saturating_sub(previous.1),
         );
-        let half = |v: Q16| Q16::from_bits(v.to_bits() / 2);
         self.estimate = Estimate {
-            ellipse: Ellipse::new(
-                self.centre.0,
-                self.centre.1,
-                half(self.size.0),
-                half(self.size.1),
-            ),
+            ellipse: self.ellipse(),
             vx: velocity.0,
             vy: velocity.1,
             confidence,
@@ -422,19 +416,24 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             .max(self.factor_bounds.0)
             .min(self.factor_bounds.1);
         self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
-        let half = |v: Q16| Q16::from_bits(v.to_bits() / 2);
         let e = self.estimate;
         self.estimate = Estimate {
-            ellipse: Ellipse::new(
-                self.centre.0,
-                self.centre.1,
-                half(self.size.0),
-                half(self.size.1),
-            ),
+            ellipse: self.ellipse(),
             vx: motion.length(e.vx),
             vy: motion.length(e.vy),
             ..e
         };
+    }
+
+    /// The ellipse of the current centre and size (half-axes half the size), px.
+    fn ellipse(&self) -> Ellipse {
+        let half = |v: Q16| Q16::from_bits(v.to_bits() / 2);
+        Ellipse::new(
+            self.centre.0,
+            self.centre.1,
+            half(self.size.0),
+            half(self.size.1),
+        )
     }
 
     /// Searches the region around `centre` for the target at its current size.
