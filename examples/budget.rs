@@ -10,7 +10,12 @@
 //! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps, and a known
 //!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom);
 //! - one 2-D forward FFT of a 32 x 32 grid of full-scale Q31 samples (`rbtrack::fft`, the
-//!   correlation filter's transform).
+//!   correlation filter's transform);
+//! - the correlation-filter tracker (`rbtrack::tracker::CfTracker`) stage by stage, mean and
+//!   largest, and its `size_of`: against its grid (`G`, 8 or 16 cells a side), cell side,
+//!   scales (`S`) and the scale model's area, then against target size at the defaults.
+//!   Its 10 feature channels are fixed. Its 32 x 32 grid does not fit beside the frame
+//!   buffer and the stack in the board's RAM: the example prints its size instead.
 //!
 //! ```sh
 //! cargo run --release --example budget --target thumbv7em-none-eabihf
@@ -26,14 +31,16 @@ fn main() {
 mod budget {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
+    use rbtrack::cf::scale::ScaleSettings;
     use rbtrack::fft::{self, Complex};
     use rbtrack::fixed::Q16;
     use rbtrack::image::Rgb8x8x8;
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::{CycleCounter, StageCycles};
     use rbtrack::rng::Rng;
-    use rbtrack::tracker::{CameraMotion, Config, Status, Tracker, Variant};
+    use rbtrack::tracker::{CameraMotion, CfConfig, CfTracker, Config, Status, Tracker, Variant};
     use rbtrack_firmware::board::{self, SysTick};
+    use rbtrack_firmware::cf::run_cf;
     use rbtrack_firmware::run::{self, FirmwareTracker, BINS, STACK_BUDGET_BYTES};
     use rbtrack_firmware::scene::{self, FRAMES};
     use static_cell::ConstStaticCell;
@@ -58,6 +65,22 @@ mod budget {
     /// times 3/8, 6/8, 12/8 and 18/8.
     const SCALES_EIGHTHS: [i32; 4] = [3, 6, 12, 18];
 
+    /// The correlation-filter tracker of `G x G` cells and `S` scales.
+    type Cf<const G: usize, const S: usize> = CfTracker<Rgb8x8x8, BINS, G, S>;
+
+    /// Correlation-filter configurations: cells a side (`G`), scales (`S`), cell side (px),
+    /// the scale model's largest area (px^2). The first is the default.
+    const CF_CONFIGS: [(usize, usize, usize, u32); 8] = [
+        (16, 8, 4, 512),
+        (16, 8, 2, 512),
+        (16, 4, 4, 256),
+        (8, 8, 8, 512),
+        (8, 4, 8, 256),
+        (8, 4, 4, 256),
+        (8, 4, 4, 128),
+        (8, 4, 4, 96),
+    ];
+
     /// The trackers other than the board's N = 100, one at a time in one static the size
     /// of the largest: all of them side by side would not fit the board's 320 KiB.
     #[allow(clippy::large_enum_variant)] // one static, never moved: its size is the point
@@ -67,6 +90,10 @@ mod budget {
         N50(Tracker<Rgb8x8x8, 50, BINS>),
         N200(Tracker<Rgb8x8x8, 200, BINS>),
         N400(Tracker<Rgb8x8x8, 400, BINS>),
+        Cf16x8(Cf<16, 8>),
+        Cf16x4(Cf<16, 4>),
+        Cf8x8(Cf<8, 8>),
+        Cf8x4(Cf<8, 4>),
     }
 
     static OTHER: ConstStaticCell<Other> = ConstStaticCell::new(Other::Idle);
@@ -123,6 +150,63 @@ mod budget {
             total: (mean[..5].iter().sum(), most),
             pixels: mean[5],
             height: mean[6],
+        }
+    }
+
+    /// The correlation-filter tracker's cost over the scene with its target times `scale`:
+    /// mean instructions per stage (features, filter, colour, scale, learn) and of a step,
+    /// then the largest of a step; and the mean target height, px.
+    fn measure_cf<const G: usize, const S: usize>(
+        tracker: &mut Cf<G, S>,
+        frame: &mut [u8],
+        counter: &mut SysTick,
+        config: CfConfig,
+        scale: Q16,
+    ) -> ([u64; 7], u64) {
+        let (mut sums, mut most, mut height) = ([0u64; 6], 0u32, 0u64);
+        let result = run_cf(config, tracker, scale, frame, counter, |r| {
+            let c = r.cycles;
+            let row = [c.features, c.filter, c.colour, c.scale, c.learn, c.total()];
+            for (sum, v) in sums.iter_mut().zip(row) {
+                *sum += v as u64;
+            }
+            most = most.max(c.total());
+            height += ((2 * r.truth.hy.to_bits() as u32) >> 16) as u64;
+        });
+        if let Err(e) = result {
+            panic!("correlation-filter configuration: {e}");
+        }
+        let mean = sums.map(|s| s / FRAMES as u64);
+        let [f, t, c, s, l, total] = mean;
+        ([f, t, c, s, l, total, most as u64], height / FRAMES as u64)
+    }
+
+    /// [`measure_cf`] on a tracker of `g` cells and `s` scales made in place in [`OTHER`],
+    /// with its `size_of`.
+    fn measure_cf_in(
+        (g, s): (usize, usize),
+        other: &mut Other,
+        frame: &mut [u8],
+        counter: &mut SysTick,
+        config: CfConfig,
+        scale: Q16,
+    ) -> (usize, [u64; 7], u64) {
+        // A constant, so that it is copied into the static without a stack temporary.
+        macro_rules! in_other {
+            ($variant:ident, $g:literal, $s:literal) => {{
+                *other = const { Other::$variant(CfTracker::unstarted()) };
+                let Other::$variant(t) = other else {
+                    unreachable!()
+                };
+                let (cost, height) = measure_cf(t, frame, counter, config, scale);
+                (core::mem::size_of::<Cf<$g, $s>>(), cost, height)
+            }};
+        }
+        match (g, s) {
+            (16, 4) => in_other!(Cf16x4, 16, 4),
+            (8, 8) => in_other!(Cf8x8, 8, 8),
+            (8, 4) => in_other!(Cf8x4, 8, 4),
+            _ => in_other!(Cf16x8, 16, 8),
         }
     }
 
@@ -314,6 +398,66 @@ mod budget {
             counter.now().wrapping_sub(start),
             exponent
         );
+
+        hprintln!("");
+        hprintln!("correlation-filter tracker, instructions per frame by stage (mean), total (mean, max):");
+        hprintln!(
+            " G  S cell area  size_of B  features   filter   colour    scale    learn     total       max"
+        );
+        for (g, s, cell, area) in CF_CONFIGS {
+            let defaults = CfConfig::default();
+            let config = CfConfig {
+                cell,
+                scale: ScaleSettings {
+                    area,
+                    ..defaults.scale
+                },
+                ..defaults
+            };
+            let f = &mut frame[..];
+            let (size, c, _) = measure_cf_in((g, s), other, f, &mut counter, config, Q16::ONE);
+            hprintln!(
+                "{:>2} {:>2} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9}",
+                g,
+                s,
+                cell,
+                area,
+                size,
+                c[0],
+                c[1],
+                c[2],
+                c[3],
+                c[4],
+                c[5],
+                c[6]
+            );
+        }
+        hprintln!(
+            "32  8    4  512 {:>9}  not run: with the {} B frame buffer and the {} B stack \
+             budget it exceeds the board's 320 KiB of RAM",
+            core::mem::size_of::<Cf<32, 8>>(),
+            scene::FRAME_BYTES,
+            STACK_BUDGET_BYTES
+        );
+        hprintln!("");
+        hprintln!(
+            "correlation-filter tracker against target size, defaults (mean target height, px):"
+        );
+        hprintln!("height  features    scale     total       max");
+        for eighths in SCALES_EIGHTHS {
+            let scale = Q16::from_int(eighths) / Q16::from_int(8);
+            let f = &mut frame[..];
+            let config = CfConfig::default();
+            let (_, c, height) = measure_cf_in((16, 8), other, f, &mut counter, config, scale);
+            hprintln!(
+                "{:>6} {:>9} {:>8} {:>9} {:>9}",
+                height,
+                c[0],
+                c[3],
+                c[5],
+                c[6]
+            );
+        }
 
         // A tracker made in place must not have passed through the stack.
         let stack = board::stack_use();

@@ -31,6 +31,7 @@ fn main() {
 mod firmware {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hprintln};
+    use rbtrack::fixed::Q16;
     use rbtrack::profile::CfStageCycles;
     use rbtrack::tracker::{CfConfig, Status};
     use rbtrack_firmware::board::{self, Counter, Dwt, SysTick};
@@ -129,6 +130,7 @@ mod firmware {
         let checksum = match run_cf(
             CfConfig::default(),
             tracker,
+            Q16::ONE,
             &mut frame[..],
             &mut counter,
             &mut report,

@@ -35,28 +35,30 @@ pub struct CfFrameReport {
     pub truth: Ellipse,
 }
 
-/// Runs the tracker over the scene at `config`: renders frame 0 into `buf`, starts
-/// `tracker` in place on the true box, then renders and steps frames `1..=FRAMES`, timing
-/// each step with `counter`, handing each frame to `report`; returns the checksum of the
-/// estimates.
+/// Runs the tracker over the scene at `config` with its target times `target_scale` (1: the
+/// scene as it is): renders frame 0 into `buf`, starts `tracker` in place on the true box,
+/// then renders and steps frames `1..=FRAMES`, timing each step with `counter`, handing
+/// each frame to `report`; returns the checksum of the estimates.
 ///
 /// # Errors
 /// The tracker's [`ConfigError`] (none at the defaults).
 ///
 /// # Panics
 /// If `buf` is shorter than [`scene::FRAME_BYTES`].
-pub fn run_cf<C: CycleCounter, const G: usize>(
+pub fn run_cf<C: CycleCounter, const G: usize, const S: usize>(
     config: CfConfig,
-    tracker: &mut CfTracker<Rgb8x8x8, BINS, G, CF_SCALES>,
+    tracker: &mut CfTracker<Rgb8x8x8, BINS, G, S>,
+    target_scale: Q16,
     buf: &mut [u8],
     mut counter: C,
     mut report: impl FnMut(&CfFrameReport),
 ) -> Result<Checksum, ConfigError> {
     let mut checksum = Checksum::new();
-    scene::render(scene::SEED, 0, buf);
-    tracker.start(config, &view(buf), Rect::from(scene::truth(0)))?;
+    let truth = |frame| scene::truth_scaled(frame, target_scale);
+    scene::render_scaled(scene::SEED, 0, target_scale, buf);
+    tracker.start(config, &view(buf), Rect::from(truth(0)))?;
     for frame in 1..=FRAMES {
-        scene::render(scene::SEED, frame, buf);
+        scene::render_scaled(scene::SEED, frame, target_scale, buf);
         step_begins();
         let (estimate, cycles) = tracker.step_profiled(&view(buf), &mut counter);
         step_ends();
@@ -65,7 +67,7 @@ pub fn run_cf<C: CycleCounter, const G: usize>(
             frame,
             estimate,
             cycles,
-            truth: scene::truth(frame),
+            truth: truth(frame),
         });
     }
     Ok(checksum)
@@ -123,19 +125,26 @@ mod tests {
     }
 
     /// The run at `G` cells a side: frames, lost frames, mean IoU (thousandths), checksum.
-    fn run_at<const G: usize>(
-        tracker: &mut CfTracker<Rgb8x8x8, BINS, G, CF_SCALES>,
+    fn run_at<const G: usize, const S: usize>(
+        tracker: &mut CfTracker<Rgb8x8x8, BINS, G, S>,
     ) -> (usize, usize, u32, Checksum) {
         let mut buf = [0u8; scene::FRAME_BYTES];
         let (mut frames, mut lost, mut iou) = (0, 0, 0);
         let mut each = Checksum::new();
-        let checksum = run_cf(CfConfig::default(), tracker, &mut buf, NoCounter, |r| {
-            assert_eq!(r.frame, frames + 1);
-            frames += 1;
-            lost += usize::from(r.estimate.status == Status::Lost);
-            iou += iou_permille(&r.estimate.ellipse, &r.truth);
-            each.add(&r.estimate);
-        })
+        let checksum = run_cf(
+            CfConfig::default(),
+            tracker,
+            Q16::ONE,
+            &mut buf,
+            NoCounter,
+            |r| {
+                assert_eq!(r.frame, frames + 1);
+                frames += 1;
+                lost += usize::from(r.estimate.status == Status::Lost);
+                iou += iou_permille(&r.estimate.ellipse, &r.truth);
+                each.add(&r.estimate);
+            },
+        )
         .unwrap();
         assert_eq!(
             checksum, each,

@@ -10,6 +10,7 @@
 //! (fails, with `RBTRACK_REQUIRE_BROWSER` set as CI sets it, for a missing tool). The screenshots and the
 //! boxes stay in `target/browser/`.
 
+use rbtrack::fixed::Q16;
 use rbtrack::profile::NoCounter;
 use rbtrack::tracker::CfConfig;
 use rbtrack_firmware::cf::{run_cf, FirmwareCfTracker};
@@ -189,6 +190,7 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     let cf = run_cf(
         CfConfig::default(),
         &mut tracker,
+        Q16::ONE,
         &mut frame,
         NoCounter,
         |_| {},

@@ -5,6 +5,7 @@
 //! as `RBTRACK_CF_FIRMWARE_CHECKSUM`; this test then requires the host's checksum to
 //! equal it. Without the variable it checks that the run is reproducible and tracks.
 
+use rbtrack::fixed::Q16;
 use rbtrack::profile::NoCounter;
 use rbtrack::tracker::{CfConfig, Status};
 use rbtrack_firmware::cf::{iou_permille, run_cf, CfFrameReport, FirmwareCfTracker};
@@ -17,6 +18,7 @@ fn host_run(report: impl FnMut(&CfFrameReport)) -> Checksum {
     run_cf(
         CfConfig::default(),
         &mut tracker,
+        Q16::ONE,
         &mut frame,
         NoCounter,
         report,

@@ -237,6 +237,7 @@ pub fn cf_firmware_checksum() -> Result<u64, ConfigError> {
     let checksum = run_cf(
         CfConfig::default(),
         &mut tracker,
+        Q16::ONE,
         &mut frame,
         NoCounter,
         |_| {},
