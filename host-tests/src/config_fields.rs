@@ -242,7 +242,7 @@ impl Setting {
                 let field = cf64::params::Field::named(cf).ok_or_else(|| {
                     let names: Vec<&str> = cf64::params::FIELDS.iter().map(|f| f.name).collect();
                     format!(
-                        "unknown field `{name}` of the cf64 tracker (fields: cf.{})",
+                        "unknown field `{name}` of the correlation-filter trackers (fields: cf.{})",
                         names.join(", cf.")
                     )
                 })?;
@@ -353,6 +353,21 @@ impl Overrides {
         T::parse(&setting.value).ok()
     }
 
+    /// The first setting none of `trackers` reads: a core field other than `seed` and
+    /// `variant` is the particle filters', a `cf.` field the correlation-filter trackers'.
+    pub fn unread_by(&self, particle_filter: &[bool]) -> Option<String> {
+        let reads = |s: &Setting| match s.field {
+            SettingField::Core(f) => {
+                matches!(f.name, "seed" | "variant") || particle_filter.contains(&true)
+            }
+            SettingField::Cf(_) => particle_filter.contains(&false),
+        };
+        self.0.iter().find(|s| !reads(s)).map(|s| match s.field {
+            SettingField::Core(f) => f.name.to_string(),
+            SettingField::Cf(f) => format!("cf.{}", f.name),
+        })
+    }
+
     /// `Config::new(variant)` with every core setting applied, then `variant` and `seed`
     /// imposed, checked by [`Config::validate`].
     pub fn config(&self, variant: Variant, seed: u64) -> Result<Config, String> {
@@ -370,7 +385,12 @@ impl Overrides {
 
     /// `cf64::Params::default()` with every `cf.` setting applied, checked.
     pub fn cf_params(&self) -> Result<cf64::Params, String> {
-        let mut params = cf64::Params::default();
+        self.cf_params_on(cf64::Params::default())
+    }
+
+    /// `base` with the `cf.` fields set, checked.
+    pub fn cf_params_on(&self, base: cf64::Params) -> Result<cf64::Params, String> {
+        let mut params = base;
         for s in &self.0 {
             if let SettingField::Cf(field) = s.field {
                 field.set(&mut params, &s.value)?;

@@ -36,7 +36,29 @@ pub struct Options {
     pub cf64: Option<cf64::Params>,
     /// With settings, the core's correlation-filter tracker runs instead of a particle
     /// filter.
-    pub cf: Option<CfConfig>,
+    pub cf: Option<CoreCf>,
+}
+
+/// The core correlation-filter tracker's configuration and sizes (its const generics).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoreCf {
+    /// Its settings.
+    pub config: CfConfig,
+    /// Cells a side, `G`: one of [`CF_SHAPES`] with `scales`.
+    pub grid: usize,
+    /// Scales, `S`.
+    pub scales: usize,
+}
+
+impl Default for CoreCf {
+    /// The defaults: [`CF_GRID`] cells a side, [`CF_SCALES`] scales.
+    fn default() -> Self {
+        Self {
+            config: CfConfig::default(),
+            grid: CF_GRID,
+            scales: CF_SCALES,
+        }
+    }
 }
 
 impl Options {
@@ -103,6 +125,8 @@ pub enum RunError {
     Config(ConfigError),
     /// The f64 correlation-filter tracker rejected its settings or the initial box.
     Cf64(String),
+    /// The core correlation-filter tracker's grid and scales are not one of [`CF_SHAPES`].
+    CfShape(usize, usize),
 }
 
 impl fmt::Display for RunError {
@@ -112,6 +136,10 @@ impl fmt::Display for RunError {
             Self::Frame(e) => write!(f, "bad frame: {e}"),
             Self::Config(e) => write!(f, "{e}"),
             Self::Cf64(e) => write!(f, "cf64: {e}"),
+            Self::CfShape(g, n) => write!(
+                f,
+                "cf.grid={g}, cf.scales={n}: the integer tracker has (grid, scales) {CF_SHAPES:?}"
+            ),
         }
     }
 }
@@ -254,12 +282,23 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
         .map_err(RunError::Cf64)?;
         return Ok(Box::new(Cf64Runner { tracker }));
     }
-    if let Some(config) = options.cf {
+    if let Some(cf) = options.cf {
+        macro_rules! by_shape {
+            ($bn:ty, $b:literal) => {
+                match (cf.grid, cf.scales) {
+                    (16, 8) => CfRunner::<$bn, $b, 16, 8>::start(cf.config, frame, init),
+                    (16, 4) => CfRunner::<$bn, $b, 16, 4>::start(cf.config, frame, init),
+                    (8, 8) => CfRunner::<$bn, $b, 8, 8>::start(cf.config, frame, init),
+                    (8, 4) => CfRunner::<$bn, $b, 8, 4>::start(cf.config, frame, init),
+                    (g, n) => Err(RunError::CfShape(g, n)),
+                }
+            };
+        }
         return match options.shape.bins {
-            Bins::Rgb8x8x8 => CfRunner::<Rgb8x8x8, 512>::start(config, frame, init),
-            Bins::Rgb8x8x4 => CfRunner::<Rgb8x8x4, 256>::start(config, frame, init),
-            Bins::Yuv8x8x4 => CfRunner::<Yuv8x8x4, 256>::start(config, frame, init),
-            Bins::Luma64 => CfRunner::<Luma64, 64>::start(config, frame, init),
+            Bins::Rgb8x8x8 => by_shape!(Rgb8x8x8, 512),
+            Bins::Rgb8x8x4 => by_shape!(Rgb8x8x4, 256),
+            Bins::Yuv8x8x4 => by_shape!(Yuv8x8x4, 256),
+            Bins::Luma64 => by_shape!(Luma64, 64),
         };
     }
     fn boxed<Bn: Binning, const N: usize, const B: usize>(
@@ -291,17 +330,20 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
     }
 }
 
-/// Cells a side of the host's correlation-filter tracker.
+/// Cells a side of the host's correlation-filter tracker by default.
 pub const CF_GRID: usize = 16;
-/// Its scales.
+/// Its scales by default.
 pub const CF_SCALES: usize = 8;
+/// The (grid, scales) the host runs the core correlation-filter tracker at: the default,
+/// then smaller ones (`examples/budget.rs` prices them).
+pub const CF_SHAPES: [(usize, usize); 4] = [(CF_GRID, CF_SCALES), (16, 4), (8, 8), (8, 4)];
 
 /// The core's correlation-filter tracker behind [`Run`], on the heap (it is large).
-struct CfRunner<Bn: Binning, const B: usize> {
-    tracker: Box<CfTracker<Bn, B, CF_GRID, CF_SCALES>>,
+struct CfRunner<Bn: Binning, const B: usize, const G: usize, const S: usize> {
+    tracker: Box<CfTracker<Bn, B, G, S>>,
 }
 
-impl<Bn: Binning, const B: usize> CfRunner<Bn, B> {
+impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfRunner<Bn, B, G, S> {
     fn start(config: CfConfig, frame: &Frame, init: &BBox) -> Result<Box<dyn Run>, RunError> {
         let mut tracker = Box::new(CfTracker::unstarted());
         let init = Rect::from(ellipse_of(init));
@@ -310,7 +352,7 @@ impl<Bn: Binning, const B: usize> CfRunner<Bn, B> {
     }
 }
 
-impl<Bn: Binning, const B: usize> Run for CfRunner<Bn, B> {
+impl<Bn: Binning, const B: usize, const G: usize, const S: usize> Run for CfRunner<Bn, B, G, S> {
     fn step(&mut self, frame: &Frame) -> Result<Step, RunError> {
         let (estimate, elapsed) = with_view!(frame, v => {
             let start = Instant::now();

@@ -2,33 +2,33 @@
 //! [`Params::of_core`]): whole runs on the synthetic scenes and single steps on real
 //! frames, the same boxes within stated tolerances.
 
-use rbtrack::tracker::{CfConfig, Variant};
+use rbtrack::tracker::Variant;
 use rbtrack_host::cf64::Params;
 use rbtrack_host::metrics::BBox;
 use rbtrack_host::pixels::Frame;
-use rbtrack_host::run::{track, Options, CF_GRID};
+use rbtrack_host::run::{track, CoreCf, Options, CF_GRID, CF_SCALES, CF_SHAPES};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant as SceneVariant};
 use rbtrack_host::sequence::{sequence_names, shared_data_dir, GtOrigin, Sequence};
 
-/// The integer tracker at `config`, and its f64 reference.
-fn both(config: CfConfig) -> [Options; 2] {
+/// The integer tracker at `cf`, and its f64 reference.
+fn both(cf: CoreCf) -> [Options; 2] {
     let base = Options::new(Variant::Rbpf);
     [
         Options {
-            cf: Some(config),
+            cf: Some(cf),
             ..base
         },
         Options {
-            cf64: Some(Params::of_core(&config, CF_GRID)),
+            cf64: Some(Params::of_core(&cf.config, cf.grid, cf.scales)),
             ..base
         },
     ]
 }
 
-/// Per frame, the distance between the two trackers' centres over the reference box's
-/// mean side, and the ratio of their widths.
-fn agreement(frames: &[Frame], init: &BBox) -> Vec<(f64, f64)> {
-    let [core, reference] = both(CfConfig::default());
+/// Per frame, the distance between the two trackers' centres at `cf` over the reference
+/// box's mean side, and the ratio of their widths.
+fn agreement(frames: &[Frame], init: &BBox, cf: CoreCf) -> Vec<(f64, f64)> {
+    let [core, reference] = both(cf);
     let (a, _) = track(&core, frames, init).expect("starts");
     let (b, _) = track(&reference, frames, init).expect("starts");
     a.iter()
@@ -68,7 +68,7 @@ fn follows_the_f64_reference_on_the_synthetic_scenes() {
             let truth = scene.boxes();
             all.push(worst(
                 &format!("{kind:?} seed {seed}"),
-                &agreement(&frames, &truth[0]),
+                &agreement(&frames, &truth[0], CoreCf::default()),
             ));
         }
     }
@@ -77,9 +77,12 @@ fn follows_the_f64_reference_on_the_synthetic_scenes() {
 
 /// One step from the same start: both trackers started on the ground truth of frame
 /// `k - 1` and stepped to frame `k`, for every 10th `k` of every dev sequence (so that the
-/// port's error is measured, not the chaos of a long run): centres within 2 % of the
-/// side and sizes within 2 % in at least 95 % of the steps, none more than a fifth of a side
-/// apart (skipped without ../shared/data).
+/// port's error is measured, not the chaos of a long run), at every grid and scale count
+/// the host runs. A cell is `2 / G` of the side (the region is twice the target), so the
+/// tolerances are in cells: centres within 0.16 of a cell (2 % of the side on 16 x 16 cells)
+/// and sizes within 2 % in at least 95 % of the steps at the defaults, 85 % at the smaller
+/// grid or fewer scales (where near-equal responses tip either way more often), none more
+/// than 1.6 cells apart (a fifth of the side on 16 x 16) (skipped without ../shared/data).
 #[test]
 fn one_step_agrees_with_the_f64_reference_on_real_frames() {
     let Some(data) = shared_data_dir() else {
@@ -87,32 +90,56 @@ fn one_step_agrees_with_the_f64_reference_on_real_frames() {
         return;
     };
     let names = sequence_names(&data);
-    let mut steps = Vec::new();
+    let mut steps: Vec<Vec<(f64, f64)>> = vec![Vec::new(); CF_SHAPES.len()];
     for name in &names {
         let seq = Sequence::open(data.join(name), GtOrigin::of_shared(name)).expect("opens");
         let frames: Vec<_> = seq.frames().map(|f| f.expect("decodes")).collect();
-        let mut per_step = Vec::new();
-        for k in (10..frames.len()).step_by(10) {
-            let init = &seq.groundtruth[k - 1];
-            if init.w < 4.0 || init.h < 4.0 {
-                continue;
+        for (&(grid, scales), steps) in CF_SHAPES.iter().zip(&mut steps) {
+            let cf = CoreCf {
+                grid,
+                scales,
+                ..CoreCf::default()
+            };
+            let mut per_step = Vec::new();
+            for k in (10..frames.len()).step_by(10) {
+                let init = &seq.groundtruth[k - 1];
+                if init.w < 4.0 || init.h < 4.0 {
+                    continue;
+                }
+                let pair = &frames[k - 1..=k];
+                per_step.extend(agreement(pair, init, cf).into_iter().skip(1));
             }
-            per_step.extend(agreement(&frames[k - 1..=k], init).into_iter().skip(1));
+            worst(
+                &format!("{name}, {grid} x {grid} cells, {scales} scales"),
+                &per_step,
+            );
+            steps.extend(per_step);
         }
-        worst(name, &per_step);
-        steps.extend(per_step);
     }
-    let close = steps
-        .iter()
-        .filter(|&&(c, w)| c <= 0.02 && (w - 1.0).abs() <= 0.02)
-        .count();
-    let share = close as f64 / steps.len() as f64;
-    let farthest = steps.iter().map(|s| s.0).fold(0.0, f64::max);
-    println!(
-        "{close} of {} steps agree ({:.1} %), centres at most {farthest:.3} of a side apart",
-        steps.len(),
-        100.0 * share
-    );
-    assert!(steps.len() >= 300, "{} steps", steps.len());
-    assert!(share >= 0.95 && farthest <= 0.2, "{share} {farthest}");
+    for ((grid, scales), steps) in CF_SHAPES.into_iter().zip(&steps) {
+        // A cell, in sides.
+        let cell = 2.0 / grid as f64;
+        let near = 0.16 * cell;
+        let close = steps
+            .iter()
+            .filter(|&&(c, w)| c <= near && (w - 1.0).abs() <= 0.02)
+            .count();
+        let share = close as f64 / steps.len() as f64;
+        let farthest = steps.iter().map(|s| s.0).fold(0.0, f64::max);
+        println!(
+            "{grid} x {grid} cells, {scales} scales: {close} of {} steps agree ({:.1} %), \
+             centres at most {farthest:.3} of a side apart",
+            steps.len(),
+            100.0 * share
+        );
+        assert!(steps.len() >= 300, "{} steps", steps.len());
+        let least = match (grid, scales) == (CF_GRID, CF_SCALES) {
+            true => 0.95,
+            false => 0.85,
+        };
+        assert!(
+            share >= least && farthest <= 1.6 * cell,
+            "{grid} x {grid}, {scales}: {share} {farthest}"
+        );
+    }
 }

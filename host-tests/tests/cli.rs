@@ -301,6 +301,8 @@ fn track_json_boxes_and_overlay() {
     let o = rbtrack(&[
         "track",
         path(&seq),
+        "--tracker",
+        "rbpf",
         "--json",
         "--particles",
         "50",
@@ -419,12 +421,22 @@ fn set_and_config_file() {
     write_sequence(&seq, 6);
     let s = path(&seq);
 
-    let o = rbtrack(&["track", s, "--json", "--set", "scale_per_row=0.1"]);
+    let o = rbtrack(&[
+        "track",
+        s,
+        "--tracker",
+        "rbpf",
+        "--json",
+        "--set",
+        "scale_per_row=0.1",
+    ]);
     let with_slope = json(&o);
     assert_eq!(with_slope["config"]["scale_per_row"], 0.1);
     let o = rbtrack(&[
         "track",
         s,
+        "--tracker",
+        "rbpf",
         "--json",
         "--set",
         "cue_mix=average:0.5",
@@ -501,22 +513,22 @@ fn set_and_config_file() {
 
     // Mistakes name the field, on one line.
     assert_one_line_error(
-        &rbtrack(&["track", s, "--set", "no_such_field=1"]),
+        &rbtrack(&["track", s, "--tracker", "rbpf", "--set", "no_such_field=1"]),
         "unknown field",
         "no_such_field",
     );
     assert_one_line_error(
-        &rbtrack(&["track", s, "--set", "colour_sigma=abc"]),
+        &rbtrack(&["track", s, "--tracker", "rbpf", "--set", "colour_sigma=abc"]),
         "bad value",
         "colour_sigma",
     );
     assert_one_line_error(
-        &rbtrack(&["track", s, "--set", "cue_mix=sum"]),
+        &rbtrack(&["track", s, "--tracker", "rbpf", "--set", "cue_mix=sum"]),
         "bad enum",
         "cue_mix",
     );
     assert_one_line_error(
-        &rbtrack(&["track", s, "--set", "lost_below=0.9"]),
+        &rbtrack(&["track", s, "--tracker", "rbpf", "--set", "lost_below=0.9"]),
         "out of range (Config::validate)",
         "lost_below",
     );
@@ -531,6 +543,50 @@ fn set_and_config_file() {
         &rbtrack(&["track", s, "--config", path(&toml)]),
         "bad TOML value",
         "colour_sigma",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Without --tracker, `track` runs the core's correlation-filter tracker, which takes the
+/// `cf.` fields it has (its grid and scales among them) and refuses the others and the
+/// particle filters' settings, naming the field.
+#[test]
+fn correlation_filter_by_default() {
+    let dir = temp_dir("cf-default");
+    let seq = dir.join("Tiny");
+    write_sequence(&seq, 9);
+    let s = path(&seq);
+    let doc = json(&rbtrack(&["track", s, "--json"]));
+    assert_eq!(doc["tracker"], "cf");
+    assert_eq!(doc["config"]["grid"], 16);
+    let doc = json(&rbtrack(&[
+        "track",
+        s,
+        "--json",
+        "--set",
+        "cf.grid=8",
+        "--set",
+        "cf.scales=4",
+        "--set",
+        "cf.cell=8",
+    ]));
+    let config = &doc["config"];
+    assert_eq!((&config["grid"], &config["scales"]), (&8.into(), &4.into()));
+    assert_eq!(config["cell"], 8);
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "colour_sigma=0.15"]),
+        "a particle filter's setting",
+        "colour_sigma",
+    );
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "cf.hog=31"]),
+        "a setting the integer tracker has fixed",
+        "cf.hog",
+    );
+    assert_one_line_error(
+        &rbtrack(&["track", s, "--set", "cf.grid=32"]),
+        "a grid the host does not run",
+        "cf.grid=32",
     );
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -726,6 +782,8 @@ fn mp4_video() {
         path(&seq.join(GROUNDTRUTH_FILE)),
         "--per-frame",
         path(&csv),
+        "--tracker",
+        "rbpf",
         "--json",
     ]);
     let doc = json(&o);
@@ -1087,7 +1145,16 @@ fn eval_from_spatial_starts() {
         &write_sequence(&data.join("Alpha"), 21),
     );
     grown(&data.join("Beta"), &write_sequence(&data.join("Beta"), 22));
-    let common = ["eval", path(&data), "--particles", "25", "--seeds", "1,2"];
+    let common = [
+        "eval",
+        path(&data),
+        "--tracker",
+        "rbpf",
+        "--particles",
+        "25",
+        "--seeds",
+        "1,2",
+    ];
     let mut args = common.to_vec();
     let boxes = dir.join("boxes");
     args.extend(["--starts", "spatial", "--json", "--boxes", path(&boxes)]);
@@ -1269,6 +1336,8 @@ fn eval_over_seeds() {
     let twin = json(&rbtrack(&[
         "track",
         path(&data.join("Zero")),
+        "--tracker",
+        "rbpf",
         "--zero-based",
         "--particles",
         "25",

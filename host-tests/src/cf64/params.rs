@@ -281,10 +281,14 @@ impl Params {
 
     /// The fields that differ from the defaults, as `cf.FIELD=VALUE`.
     pub fn changed(&self) -> Vec<String> {
-        let default = Params::default();
+        self.changed_from(&Params::default())
+    }
+
+    /// The fields that differ from `base`, as `cf.FIELD=VALUE`.
+    pub fn changed_from(&self, base: &Params) -> Vec<String> {
         FIELDS
             .iter()
-            .filter(|f| f.get(self) != f.get(&default))
+            .filter(|f| f.get(self) != f.get(base))
             .map(|f| match f.get(self) {
                 Value::String(s) => format!("cf.{}={s}", f.name),
                 v => format!("cf.{}={v}", f.name),
@@ -302,12 +306,12 @@ impl Params {
         }
     }
     /// The f64 settings of the core's integer tracker configured by `c` on a `grid x grid`
-    /// grid of cells: its reference in
-    /// the tests. The integer tracker resamples bilinearly, reads fHOG gradients of the luma, the 9 unsigned
-    /// channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on
-    /// every second pixel of the patch, learns on the detection's patch and samples, and
-    /// reads the scale between samples without a window over them.
-    pub fn of_core(c: &rbtrack::tracker::CfConfig, grid: usize) -> Self {
+    /// grid of cells and `scales` scales: its reference in the tests. The integer tracker
+    /// resamples bilinearly, reads fHOG gradients of the luma, the 9 unsigned channels and
+    /// the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on every second
+    /// pixel of the patch, learns on the detection's patch and samples, and reads the
+    /// scale between samples without a window over them.
+    pub fn of_core(c: &rbtrack::tracker::CfConfig, grid: usize, scales: usize) -> Self {
         let q = |v: rbtrack::Q16| v.to_f64();
         let step = q(c.scale.step);
         Self {
@@ -326,7 +330,7 @@ impl Params {
             colour_rate: q(c.colour_rate),
             inner_padding: q(c.inner_padding),
             merge: q(c.merge),
-            scales: 8,
+            scales,
             scale_step: step,
             scale_sigma: q(c.scale.sigma),
             scale_rate: q(c.scale_rate),
@@ -342,6 +346,61 @@ impl Params {
             lost_below: q(c.lost_below),
             fresh_patch: false,
             ..Self::default()
+        }
+    }
+
+    /// The core integer tracker's configuration these settings describe, where they
+    /// describe one: checked, and [`Params::of_core`] of it gives them back, each number
+    /// within its fixed-point rounding. The error names the first setting out of its
+    /// range, or the first the integer tracker does not have (or has fixed).
+    pub fn to_core(&self) -> Result<rbtrack::tracker::CfConfig, String> {
+        let config = self.core_config();
+        config
+            .validate()
+            .map_err(|e| format!("the integer tracker's settings: {e}"))?;
+        let back = Self::of_core(&config, self.grid, self.scales);
+        let near = |a: &Value, b: &Value| match (a.as_f64(), b.as_f64()) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(1.0),
+            _ => a == b,
+        };
+        match FIELDS.iter().find(|f| !near(&f.get(self), &f.get(&back))) {
+            Some(f) => Err(format!(
+                "`cf.{}` is {} in the integer tracker (--tracker cf)",
+                f.name,
+                f.get(&back)
+            )),
+            None => Ok(config),
+        }
+    }
+
+    /// The core integer tracker's settings nearest these, unchecked: the fields it has,
+    /// rounded to its fixed point.
+    pub fn core_config(&self) -> rbtrack::tracker::CfConfig {
+        use rbtrack::cf::scale::ScaleSettings;
+        let q = rbtrack::Q16::from_f64;
+        let whole = |v: f64| v.round().clamp(0.0, f64::from(u32::MAX)) as u32;
+        rbtrack::tracker::CfConfig {
+            padding: q(self.padding),
+            cell: self.cell,
+            sigma: q(self.sigma),
+            lambda: whole(self.lambda * f64::from(1u32 << 30)),
+            cf_rate: q(self.cf_rate),
+            colour_rate: q(self.colour_rate),
+            inner_padding: q(self.inner_padding),
+            merge: q(self.merge),
+            scale: ScaleSettings {
+                step: q(self.scale_step),
+                sigma: q(self.scale_sigma),
+                lambda: whole(self.scale_lambda * 2f64.powi(32)),
+                area: whole(self.scale_area),
+                cell: self.scale_cell,
+                interpolate: self.scale_interpolate,
+            },
+            scale_rate: q(self.scale_rate),
+            max_scale_change: q(self.scale_step.powf(self.scale_limit)),
+            learn_above: q(self.learn_above),
+            uncertain_below: q(self.uncertain_below),
+            lost_below: q(self.lost_below),
         }
     }
 }

@@ -81,7 +81,7 @@ pub struct FollowArgs {
     #[arg(value_name = "SEQUENCE_DIR")]
     pub sequence: Option<PathBuf>,
     /// Tracker
-    #[arg(long, value_enum, value_name = "T", default_value = "pf")]
+    #[arg(long, value_enum, value_name = "T", default_value = "cf")]
     pub tracker: TrackerKind,
     /// Seed of the tracker's random draws
     #[arg(long, value_name = "S", default_value = "1")]
@@ -196,7 +196,7 @@ pub struct TrackArgs {
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Tracker: rbpf (Rao-Blackwellised PF), pf (colour PF), cf (the correlation-filter
-    /// tracker) or cf64 (its f64 reference) [default: rbpf, or the configuration's variant]
+    /// tracker) or cf64 (its f64 reference) [default: cf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
     pub tracker: Option<TrackerKind>,
     /// Seed of the tracker's random draws [default: 1, or the configuration's seed]
@@ -306,7 +306,7 @@ pub struct EvalArgs {
     #[arg(value_name = "DATA_DIR")]
     pub data: PathBuf,
     /// Trackers: rbpf, pf, both (the particle filters), cf (the correlation-filter tracker),
-    /// cf64 (its f64 reference) or all [default: rbpf, or the configuration's variant]
+    /// cf64 (its f64 reference) or all [default: cf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
     pub tracker: Option<TrackerChoice>,
     /// Seed of the trackers' random draws [default: 1, or the configuration's seed]

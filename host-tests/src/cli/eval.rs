@@ -8,8 +8,8 @@ use super::report::{
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
-    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir,
-    emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
+    cf64_for, cf_for, check_read, config_for, config_summary, configured_seed, configured_tracker,
+    create_dir, emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::{Camera, VirtualCamera};
 use crate::cf64::cost::Operations;
@@ -79,8 +79,9 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     let overrides = overrides(&args.config)?;
     let trackers = match args.tracker {
         Some(choice) => choice.trackers(),
-        None => vec![configured_tracker(&overrides).unwrap_or(TrackerKind::Rbpf)],
+        None => vec![configured_tracker(&overrides).unwrap_or(TrackerKind::DEFAULT)],
     };
+    check_read(&overrides, &trackers)?;
     let seeds = match (&args.seeds[..], args.seed) {
         ([], Some(seed)) => vec![seed],
         ([], None) => vec![configured_seed(&overrides)],
@@ -103,7 +104,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
                     tracker,
                     config,
                     cf64,
-                    cf: cf_for(tracker),
+                    cf: cf_for(&overrides, tracker)?,
                     start,
                 });
             }

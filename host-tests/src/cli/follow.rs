@@ -3,7 +3,9 @@
 
 use super::args::FollowArgs;
 use super::runs::status_name;
-use super::{cf64_for, cf_for, config_for, create_dir, emit, fail, overrides, wrote, Failure};
+use super::{
+    cf64_for, cf_for, check_read, config_for, create_dir, emit, fail, overrides, wrote, Failure,
+};
 use crate::draw::{self, Series, GREEN};
 use crate::follow::{self, FollowFrame, FollowSummary, BAND_SHARE, FIELD_OF_VIEW_X, JUMP_SHARE};
 use crate::metrics::BBox;
@@ -36,13 +38,15 @@ struct FollowJson<'a> {
 /// Runs `rbtrack follow`.
 pub fn follow(args: &FollowArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let overrides = overrides(&args.config)?;
+    check_read(&overrides, &[args.tracker])?;
     let mut config = config_for(&overrides, args.tracker, args.seed)?;
     let cf64 = cf64_for(&overrides, args.tracker)?;
+    let cf = cf_for(&overrides, args.tracker)?;
     let options = |config| Options {
         config,
         shape: args.config.shape(),
         cf64,
-        cf: cf_for(args.tracker),
+        cf,
     };
     let gif = !args.no_gif;
     let mut pictures = Pictures::default();

@@ -35,9 +35,10 @@ use crate::cf64;
 use crate::config_fields::Overrides;
 use crate::draw::{self, Rgb};
 use crate::paper;
+use crate::run::{CoreCf, RunError, CF_SHAPES};
 use args::{ConfigArgs, PaperArgs};
 use indicatif::{ProgressBar, ProgressStyle};
-use rbtrack::tracker::{CfConfig, Config, Variant};
+use rbtrack::tracker::{Config, Variant};
 use serde::Serialize;
 use std::fmt;
 use std::io::{self, Write};
@@ -98,8 +99,15 @@ pub enum TrackerKind {
 }
 
 impl TrackerKind {
+    /// The tracker a run uses when neither `--tracker` nor the configuration's `variant`
+    /// names one: the core's correlation-filter tracker (the README's pick).
+    pub const DEFAULT: TrackerKind = TrackerKind::Cf;
+
     /// The core's two particle filters, in the order tables and plots list them.
     pub const ALL: [TrackerKind; 2] = [TrackerKind::Rbpf, TrackerKind::Pf];
+
+    /// The core's three trackers, the default first.
+    pub const CORE: [TrackerKind; 3] = [TrackerKind::Cf, TrackerKind::Rbpf, TrackerKind::Pf];
 
     /// Command-line name: `rbpf`, `pf`, `cf64` or `cf`.
     pub fn name(self) -> &'static str {
@@ -169,6 +177,23 @@ pub(crate) fn overrides(args: &ConfigArgs) -> Result<Overrides, Failure> {
     Ok(Overrides(settings, args.preset))
 }
 
+/// Fails when `overrides` set a field that none of `trackers` reads (a particle filter's
+/// setting for a correlation-filter tracker, or a `cf.` field for a particle filter).
+pub(crate) fn check_read(overrides: &Overrides, trackers: &[TrackerKind]) -> Result<(), Failure> {
+    let particle_filter: Vec<bool> = trackers.iter().map(|t| t.variant().is_some()).collect();
+    match overrides.unread_by(&particle_filter) {
+        Some(name) => {
+            let names: Vec<&str> = trackers.iter().map(|t| t.name()).collect();
+            Err(fail(format!(
+                "`{name}` is not a setting of --tracker {}: particle-filter settings are \
+                 FIELD=VALUE, the correlation-filter trackers' cf.FIELD=VALUE",
+                names.join(",")
+            )))
+        }
+        None => Ok(()),
+    }
+}
+
 /// The configuration of `tracker` with `seed` under `overrides`, checked; the error names
 /// the tracker and the field. The cf64 tracker takes only the seed of it (and its own
 /// settings from [`cf64_for`]).
@@ -194,9 +219,44 @@ pub(crate) fn cf64_for(
     }
 }
 
-/// The core correlation-filter tracker's settings, for its runs; `None` for the others.
-pub(crate) fn cf_for(tracker: TrackerKind) -> Option<CfConfig> {
-    (tracker == TrackerKind::Cf).then(CfConfig::default)
+/// The core correlation-filter tracker's settings under `overrides` (the `cf.` fields it
+/// has, on its defaults), checked, for its runs; `None` for the others.
+pub(crate) fn cf_for(
+    overrides: &Overrides,
+    tracker: TrackerKind,
+) -> Result<Option<CoreCf>, Failure> {
+    if tracker != TrackerKind::Cf {
+        return Ok(None);
+    }
+    let set = |base| {
+        overrides
+            .cf_params_on(base)
+            .map_err(|e| fail(format!("cf: {e}")))
+    };
+    // Set twice: the second time on the first's integer settings, so that the fields the
+    // integer tracker derives from others (the colour samples' step from the cell) follow
+    // them unless set too.
+    let first = set(core_cf_params(&CoreCf::default()))?;
+    let params = set(cf64::Params::of_core(
+        &first.core_config(),
+        first.grid,
+        first.scales,
+    ))?;
+    let config = params.to_core().map_err(|e| fail(format!("cf: {e}")))?;
+    let (grid, scales) = (params.grid, params.scales);
+    if !CF_SHAPES.contains(&(grid, scales)) {
+        return Err(fail(RunError::CfShape(grid, scales).to_string()));
+    }
+    Ok(Some(CoreCf {
+        config,
+        grid,
+        scales,
+    }))
+}
+
+/// The core correlation-filter tracker's settings as the f64 tracker's.
+fn core_cf_params(cf: &CoreCf) -> cf64::Params {
+    cf64::Params::of_core(&cf.config, cf.grid, cf.scales)
 }
 
 /// The tracker a configuration asks for (`variant`), if it names one.
@@ -214,7 +274,7 @@ pub(crate) fn configured_seed(overrides: &Overrides) -> u64 {
 pub(crate) fn settings_json(spec: &runs::RunSpec) -> serde_json::Value {
     match (&spec.cf64, &spec.cf) {
         (Some(params), _) => params.to_json(),
-        (None, Some(c)) => cf_json(c),
+        (None, Some(cf)) => cf_json(cf),
         (None, None) => {
             serde_json::to_value(crate::config_fields::ConfigJson(&spec.config)).unwrap_or_default()
         }
@@ -222,11 +282,11 @@ pub(crate) fn settings_json(spec: &runs::RunSpec) -> serde_json::Value {
 }
 
 /// The core correlation-filter tracker's settings, numbers as decimals.
-fn cf_json(c: &CfConfig) -> serde_json::Value {
-    let q = |v: rbtrack::Q16| v.to_f64();
+fn cf_json(cf: &CoreCf) -> serde_json::Value {
+    let (c, q) = (&cf.config, |v: rbtrack::Q16| v.to_f64());
     serde_json::json!({
-        "grid": crate::run::CF_GRID,
-        "scales": crate::run::CF_SCALES,
+        "grid": cf.grid,
+        "scales": cf.scales,
         "padding": q(c.padding),
         "cell": c.cell,
         "sigma": q(c.sigma),
@@ -250,11 +310,11 @@ fn cf_json(c: &CfConfig) -> serde_json::Value {
 }
 
 /// The settings of a run that differ from its tracker's defaults, as `FIELD=VALUE`s, or
-/// `defaults` (the core correlation-filter tracker runs at its defaults).
+/// `defaults`.
 pub(crate) fn config_summary(spec: &runs::RunSpec) -> String {
     let changed = match (&spec.cf64, &spec.cf) {
         (Some(params), _) => params.changed(),
-        (None, Some(_)) => Vec::new(),
+        (None, Some(cf)) => core_cf_params(cf).changed_from(&core_cf_params(&CoreCf::default())),
         (None, None) => crate::config_fields::changed_fields(&spec.config),
     };
     if changed.is_empty() {

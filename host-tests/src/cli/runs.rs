@@ -7,9 +7,9 @@ use crate::draw::{self, GREEN};
 use crate::loss::{frame_checks, FrameCheck};
 use crate::metrics::{BBox, Evaluation};
 use crate::pixels::Frame;
-use crate::run::{self, Options, RunError, Shape};
+use crate::run::{self, CoreCf, Options, RunError, Shape};
 use crate::sequence::GtOrigin;
-use rbtrack::tracker::{CameraMotion, CfConfig, Config, ConfigError, Estimate, Status};
+use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Status};
 use serde::Serialize;
 use std::path::Path;
 use std::time::Duration;
@@ -24,7 +24,7 @@ pub struct RunSpec {
     /// The cf64 tracker's settings, checked, for its runs.
     pub cf64: Option<cf64::Params>,
     /// The core correlation-filter tracker's settings, for its runs.
-    pub cf: Option<CfConfig>,
+    pub cf: Option<CoreCf>,
     /// Where its first box lies against the given one.
     pub start: Start,
 }

@@ -7,8 +7,8 @@ use super::runs::{
     self, box_line, check_init, create_parent, write_overlay, RunResult, RunSpec, Start,
 };
 use super::{
-    cf64_for, cf_for, config_for, config_summary, configured_seed, configured_tracker, create_dir,
-    emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
+    cf64_for, cf_for, check_read, config_for, config_summary, configured_seed, configured_tracker,
+    create_dir, emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
 use crate::camera::parse_motions;
 use crate::loss::LossReport;
@@ -72,13 +72,14 @@ pub fn track(args: &TrackArgs, out: &mut dyn Write) -> Result<(), Failure> {
     let tracker = args
         .tracker
         .or_else(|| configured_tracker(&overrides))
-        .unwrap_or(TrackerKind::Rbpf);
+        .unwrap_or(TrackerKind::DEFAULT);
+    check_read(&overrides, &[tracker])?;
     let seed = args.seed.unwrap_or_else(|| configured_seed(&overrides));
     let spec = RunSpec {
         tracker,
         config: config_for(&overrides, tracker, seed)?,
         cf64: cf64_for(&overrides, tracker)?,
-        cf: cf_for(tracker),
+        cf: cf_for(&overrides, tracker)?,
         start: Start::GIVEN,
     };
     let format = args.raw.map_or(args.format, |raw| raw.format);
