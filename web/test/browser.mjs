@@ -10,7 +10,7 @@
 //   node web/test/browser.mjs --dist web/dist --webcam SECONDS --box x,y,w,h ...
 //
 // --frames: PNG frames, tracked in name order; --box: the first frame's box, 0-based px;
-// --tracker: 0 the RBPF, 1 the colour PF (default), 2 the correlation filter. With --video instead, the page is used
+// --tracker: 0 the RBPF, 1 the colour PF, 2 the correlation filter (default). With --video instead, the page is used
 // as a person would: the file opened, the box dragged with the mouse, Track pressed, the
 // video played to its end; the figures then include the frames tracked. With --webcam, the
 // same on Chromium's fake camera (a test pattern), tracked for that many seconds. The
@@ -72,7 +72,7 @@ try {
   await page.goto(`${base}/`, { waitUntil: "load" });
   await page.waitForFunction(() => window.rbtrackReady === true, { timeout: 60_000 });
   const box = args.box.split(",").map(Number);
-  const tracker = String(args.tracker ?? 1);
+  const tracker = String(args.tracker ?? 2);
   const particles = String(args.particles ?? 100);
   let run;
   let frames;

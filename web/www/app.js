@@ -243,7 +243,7 @@ $("checksum").addEventListener("click", () => {
  * 0-based `box` of the first, as the page tracks a video; returns the CSV, the mean time
  * of a step (frame copy and step) and of a frame (canvas read, copy and step), ms.
  */
-window.rbtrackRun = async ({ frames, box: initial, tracker = 1, particles = 100, seed = 1 }) => {
+window.rbtrackRun = async ({ frames, box: initial, tracker = 2, particles = 100, seed = 1 }) => {
   let r = null;
   let image = null;
   for (const [i, url] of frames.entries()) {
