@@ -134,8 +134,8 @@ pub use image::{
 };
 pub use rect::Rect;
 pub use tracker::{
-    CameraMotion, Config, ConfigError, Estimate, LumaTracker, Rgb256Tracker, RgbTracker, Status,
-    TargetModel, Tracker, Variant, YuvTracker,
+    CameraMotion, CfConfig, CfTracker, Config, ConfigError, Estimate, LumaTracker, Rgb256Tracker,
+    RgbCfTracker, RgbTracker, Status, TargetModel, Tracker, Variant, YuvTracker,
 };
 pub use window::Ellipse;
 

@@ -1,6 +1,6 @@
 //! rbtrack on the OpenMV Cam H7: the OV7725's QVGA RGB565 frames, captured by the DCMI with
-//! DMA into two static buffers, tracked in place by the RBPF; the estimate and the cycles
-//! of each stage go out over defmt (RTT) for every frame.
+//! DMA into two static buffers, tracked in place by the correlation-filter tracker; the
+//! estimate and the cycles of each stage go out over defmt (RTT) for every frame.
 //!
 //! - **Clocks**: 12 MHz crystal (HSE), PLL1 to 400 MHz core, 200 MHz AXI/AHB, 100 MHz APB.
 //!   The sensor's XCLK is the HSE itself on MCO1 (PA8), 12 MHz.
@@ -13,11 +13,14 @@
 //!   frame k + 1 is captured while the tracker reads frame k.
 //! - **Cache**: the I- and D-caches are on; after each capture the buffer's lines are
 //!   invalidated, so the core reads what the DMA wrote.
-//! - **Tracker**: RBPF, N = 100, 512 RGB bins, on an [`ImageView`] over the DMA buffer
-//!   (no copy), initialised on a fixed 48 x 64 px box in the centre of the first frame. A
-//!   product would take the box from a detector or a host command.
+//! - **Tracker**: the correlation-filter tracker at its defaults ([`RgbCfTracker`]: 16 x 16
+//!   cells, 8 scales, 512 RGB bins), on an [`ImageView`] over the DMA buffer (no copy),
+//!   started on a fixed 48 x 64 px box in the centre of the first frame. A product would
+//!   take the box from a detector or a host command. For a particle filter instead (fewer
+//!   cycles, less accurate), make [`Tracker`] an `rbtrack::RgbTracker<100>`, start it with
+//!   `Config::new(Variant::Rbpf)` and log its `StageCycles`.
 //! - **Output**: per frame, the estimate (centre, half-axes, velocity, confidence, status)
-//!   and the DWT cycle counts of propagate, weigh, update, estimate and resample; and the
+//!   and the DWT cycle counts of features, filter, colour, scale and learn; and the
 //!   pan/tilt head's commands ([`rbtrack::pantilt`]) as servo pulses on P7 (pan, PD12,
 //!   TIM4 channel 1) and P8 (tilt, PD13, TIM4 channel 2), 50 Hz, 1,500 us at 0 degrees and
 //!   100/9 us per degree (a hobby servo's 500-2,500 us for 180 degrees); the head holds
@@ -46,11 +49,11 @@ use embassy_stm32::timer::simple_pwm::{PwmPin, SimplePwm, SimplePwmChannel};
 use embassy_stm32::{bind_interrupts, dma, peripherals};
 use panic_probe as _;
 use rbtrack::fixed::Q16;
-use rbtrack::image::{ImageError, ImageView, Rgb565Be, Rgb8x8x8};
+use rbtrack::image::{ImageError, ImageView, Rgb565Be};
 use rbtrack::pantilt::{PanTilt, PanTiltConfig};
-use rbtrack::profile::{CycleCounter, StageCycles};
-use rbtrack::tracker::{Config, ConfigError, Estimate, Variant};
-use rbtrack::window::Ellipse;
+use rbtrack::profile::{CfStageCycles, CycleCounter};
+use rbtrack::rect::Rect;
+use rbtrack::tracker::{CfConfig, ConfigError, Estimate, RgbCfTracker};
 use static_cell::ConstStaticCell;
 
 /// Frame width and height, px (QVGA).
@@ -64,12 +67,9 @@ const FOV_Y: Q16 = Q16::from_int(53);
 /// Servo pulse period (50 Hz) and the pulse at 0 degrees, us.
 const SERVO_PERIOD_US: u32 = 20_000;
 const SERVO_CENTRE_US: i32 = 1_500;
-/// Particles and colour bins of the tracker.
-const PARTICLES: usize = 100;
-const BINS: usize = 512;
 
-/// The tracker: RGB 8x8x8 bins over the sensor's big-endian RGB565.
-type Tracker = rbtrack::tracker::Tracker<Rgb8x8x8, PARTICLES, BINS>;
+/// The tracker, on RGB 8x8x8 bins over the sensor's big-endian RGB565.
+type Tracker = RgbCfTracker;
 type Pixel = Rgb565Be;
 
 /// One frame as the DMA writes it: 153,600 bytes, a whole number of the Cortex-M7's 32-byte
@@ -140,15 +140,11 @@ fn view(words: &[u32]) -> Result<ImageView<'_, Pixel>, ImageError> {
 }
 
 /// Starts `tracker` in place (a static: the tracker never lives on the stack) with the
-/// RBPF's defaults on a 48 x 64 px box in the centre of `frame`.
+/// defaults on a 48 x 64 px box in the centre of `frame`.
 fn start_tracker(tracker: &mut Tracker, frame: &ImageView<'_, Pixel>) -> Result<(), ConfigError> {
-    let centre = Ellipse::new(
-        Q16::from_int(WIDTH as i32 / 2),
-        Q16::from_int(HEIGHT as i32 / 2),
-        Q16::from_int(24),
-        Q16::from_int(32),
-    );
-    tracker.start(Config::new(Variant::Rbpf), frame, centre)
+    let (w, h) = (48, 64);
+    let centre = Rect::new((WIDTH as i32 - w) / 2, (HEIGHT as i32 - h) / 2, w, h);
+    tracker.start(CfConfig::default(), frame, centre)
 }
 
 /// Repeats a failed capture into `frame` until one succeeds, then invalidates the
@@ -179,10 +175,10 @@ fn f32_of(q: Q16) -> f32 {
 }
 
 /// Logs frame `frame`'s estimate and the core cycles of each stage of its step.
-fn report(frame: u32, e: &Estimate, c: &StageCycles) {
+fn report(frame: u32, e: &Estimate, c: &CfStageCycles) {
     let el = e.ellipse;
     info!(
-        "frame {=u32}: {} conf {=f32} cx {=f32} cy {=f32} hx {=f32} hy {=f32} vx {=f32} vy {=f32} | cycles propagate {=u32} weigh {=u32} update {=u32} estimate {=u32} resample {=u32} total {=u32}",
+        "frame {=u32}: {} conf {=f32} cx {=f32} cy {=f32} hx {=f32} hy {=f32} vx {=f32} vy {=f32} | cycles features {=u32} filter {=u32} colour {=u32} scale {=u32} learn {=u32} total {=u32}",
         frame,
         e.status,
         f32_of(e.confidence),
@@ -192,11 +188,11 @@ fn report(frame: u32, e: &Estimate, c: &StageCycles) {
         f32_of(el.hy),
         f32_of(e.vx),
         f32_of(e.vy),
-        c.propagate,
-        c.weigh,
-        c.update,
-        c.estimate,
-        c.resample,
+        c.features,
+        c.filter,
+        c.colour,
+        c.scale,
+        c.learn,
         c.total()
     );
 }
@@ -226,11 +222,9 @@ async fn main(_spawner: Spawner) {
     cp.SCB.enable_dcache(&mut cp.CPUID);
     let mut cycles = Cycles::start(&mut cp.DCB, &mut cp.DWT);
     info!(
-        "rbtrack on the OpenMV Cam H7: {=usize}x{=usize} RGB565, RBPF N = {=usize}, {=usize} bins, tracker {=usize} B",
+        "rbtrack on the OpenMV Cam H7: {=usize}x{=usize} RGB565, correlation-filter tracker, tracker {=usize} B",
         WIDTH,
         HEIGHT,
-        PARTICLES,
-        BINS,
         core::mem::size_of::<Tracker>()
     );
 

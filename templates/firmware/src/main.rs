@@ -1,7 +1,11 @@
 //! A firmware that tracks with rbtrack: a QVGA RGB565 frame in a static buffer (here a
-//! drawn target that moves 2 px a frame; on a board, the camera's DMA buffer), the colour
-//! PF with 100 particles in a static, and per frame the estimate and the cycles of each
-//! stage of the step.
+//! drawn target that moves 2 px a frame; on a board, the camera's DMA buffer), the
+//! correlation-filter tracker at its defaults in a static, and per frame the estimate and
+//! the cycles of the step and of its features.
+//!
+//! For a particle filter instead (cheaper, less accurate: rbtrack's README says when), make
+//! `TRACKER` an `rbtrack::RgbTracker<100>`, start it with
+//! `rbtrack::Config::new(rbtrack::Variant::ColourPf)` and print `cycles.weigh`.
 //!
 //! `cargo run --release` runs it in QEMU, where the cycle counter does not run (the cycles
 //! print as 0); on a board the DWT counts core cycles.
@@ -12,7 +16,7 @@ use cortex_m::peripheral::DWT;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use rbtrack::profile::CycleCounter;
-use rbtrack::{Config, ImageView, Rect, Rgb565Le, RgbTracker, Variant};
+use rbtrack::{CfConfig, ImageView, Rect, Rgb565Le, RgbCfTracker};
 use static_cell::ConstStaticCell;
 
 /// Frame size, px.
@@ -24,8 +28,9 @@ const FRAMES: u32 = 30;
 /// The frame buffer, RGB565 little-endian: 153,600 B of `.bss`.
 static FRAME: ConstStaticCell<[u8; WIDTH * HEIGHT * 2]> =
     ConstStaticCell::new([0; WIDTH * HEIGHT * 2]);
-/// The tracker, 100 particles and 512 colour bins: 54 KB of `.bss`, never on the stack.
-static TRACKER: ConstStaticCell<RgbTracker<100>> = ConstStaticCell::new(RgbTracker::unstarted());
+/// The tracker, 16 x 16 cells, 8 scales and 512 colour bins: 89 KB of `.bss`, never on the
+/// stack.
+static TRACKER: ConstStaticCell<RgbCfTracker> = ConstStaticCell::new(RgbCfTracker::unstarted());
 
 /// The core's cycle counter (DWT CYCCNT).
 struct Cycles;
@@ -80,14 +85,13 @@ fn main() -> ! {
         .map_err(rbtrack::Error::from)
         .and_then(|view| {
             let (x, y, w, h) = target(0);
-            let config = Config::new(Variant::ColourPf);
-            Ok(tracker.start(config, &view, Rect::new(x, y, w, h))?)
+            Ok(tracker.start(CfConfig::default(), &view, Rect::new(x, y, w, h))?)
         });
     if let Err(e) = started {
         hprintln!("cannot start: {}", e);
         exit(debug::EXIT_FAILURE);
     }
-    hprintln!("frame      x      y      w      h  status    conf %  cycles: weigh  total");
+    hprintln!("frame      x      y      w      h  status    conf %  cycles: features    total");
     let mut off = 0;
     for k in 1..=FRAMES {
         draw(frame, k);
@@ -99,7 +103,7 @@ fn main() -> ! {
         // Integer formatting only: float formatting would add some 20 KB of flash.
         let percent = (estimate.confidence.to_bits() * 100) >> 16;
         hprintln!(
-            "{:>5} {:>6} {:>6} {:>6} {:>6}  {:?}  {:>6}  {:>13} {:>6}",
+            "{:>5} {:>6} {:>6} {:>6} {:>6}  {:?}  {:>6}  {:>16} {:>8}",
             k,
             x,
             y,
@@ -107,7 +111,7 @@ fn main() -> ! {
             h,
             estimate.status,
             percent,
-            cycles.weigh,
+            cycles.features,
             cycles.total()
         );
         let (tx, ty, _, _) = target(k);
