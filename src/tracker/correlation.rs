@@ -74,7 +74,9 @@ pub struct CfConfig {
     pub learn_above: Q16,
     /// Below this confidence the target is uncertain, Q16.16 in `[0, 1]`.
     pub uncertain_below: Q16,
-    /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]`.
+    /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]`; once lost, it
+    /// stays lost until the confidence reaches `uncertain_below` (no flicker about one
+    /// threshold).
     pub lost_below: Q16,
 }
 
@@ -106,7 +108,7 @@ impl CfConfig {
             max_scale_change: q(1.08),
             learn_above: q(0.2),
             uncertain_below: q(0.3),
-            lost_below: q(0.2),
+            lost_below: q(0.22),
         }
     };
 
@@ -167,6 +169,22 @@ impl CfConfig {
             self.lost_below >= Q16::ZERO && self.lost_below <= self.uncertain_below,
             "lost_below",
         )
+    }
+}
+
+impl CfConfig {
+    /// The status of a frame of `confidence` after one of status `previous`: lost below
+    /// `lost_below`, and, once lost, until `uncertain_below`; uncertain below
+    /// `uncertain_below`; else tracking.
+    fn status(&self, confidence: Q16, previous: Status) -> Status {
+        let held = previous == Status::Lost && confidence < self.uncertain_below;
+        if confidence < self.lost_below || held {
+            Status::Lost
+        } else if confidence < self.uncertain_below {
+            Status::Uncertain
+        } else {
+            Status::Tracking
+        }
     }
 }
 
@@ -346,13 +364,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let found = self.detect(frame, previous, &mut watch, &mut cycles);
         self.centre = found.found;
         let confidence = found.peak.max(Q16::ZERO).min(Q16::ONE);
-        let status = if confidence < c.lost_below {
-            Status::Lost
-        } else if confidence < c.uncertain_below {
-            Status::Uncertain
-        } else {
-            Status::Tracking
-        };
+        let status = c.status(confidence, self.estimate.status);
 
         let factor = self
             .scale
@@ -730,6 +742,29 @@ mod tests {
         let before = *tracker.estimate();
         assert_eq!(tracker.step(&view), before);
         assert_eq!(tracker.estimate().status, Status::Lost);
+    }
+
+    #[test]
+    fn lost_holds_until_the_confidence_reaches_uncertain_below() {
+        let c = CfConfig::default();
+        let (lost, uncertain) = (c.lost_below, c.uncertain_below);
+        let between = Q16::from_bits((lost.to_bits() + uncertain.to_bits()) / 2);
+        let cases = [
+            (Q16::ZERO, Status::Tracking, Status::Lost),
+            (between, Status::Tracking, Status::Uncertain),
+            (between, Status::Uncertain, Status::Uncertain),
+            (between, Status::Lost, Status::Lost),
+            (uncertain, Status::Lost, Status::Tracking),
+            (Q16::ONE, Status::Lost, Status::Tracking),
+            (lost, Status::Tracking, Status::Uncertain),
+        ];
+        for (confidence, previous, want) in cases {
+            assert_eq!(
+                c.status(confidence, previous),
+                want,
+                "{confidence:?} after {previous:?}"
+            );
+        }
     }
 
     #[test]

@@ -14,7 +14,8 @@
 //!    is the move and its height the confidence;
 //! 6. the scale filter (DSST, [`scale`]) finds the size at the new position;
 //! 7. if the confidence clears `learn_above`, all three models learn the frame; while it is
-//!    below `lost_below` the target is lost, and the tracker may coast on its last
+//!    below `lost_below` the target is lost (until it reaches `uncertain_below` again),
+//!    and the tracker may coast on its last
 //!    velocity and search further regions (`coast`, `redetect`).
 //!
 //! Optionally, particles ([`particles`]) weigh hypotheses by the merged response instead

@@ -75,7 +75,8 @@ pub struct Params {
     pub coast: bool,
     /// Below this confidence the target is uncertain.
     pub uncertain_below: f64,
-    /// Below this confidence it is lost.
+    /// Below this confidence it is lost; once lost, it stays lost until the confidence
+    /// reaches `uncertain_below`.
     pub lost_below: f64,
     /// Regions searched besides the usual one per frame while lost (0: none).
     pub redetect: usize,
@@ -129,7 +130,7 @@ impl Default for Params {
             learn_above: 0.2,
             coast: false,
             uncertain_below: 0.3,
-            lost_below: 0.2,
+            lost_below: 0.22,
             redetect: 0,
             redetect_above: 0.3,
             redetect_colour: 0.5,

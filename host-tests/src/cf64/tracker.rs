@@ -340,8 +340,9 @@ impl Tracker {
         }
         let peak = found.peak;
         let confidence = peak.clamp(0.0, 1.0);
+        // Once lost, lost until the confidence clears `uncertain_below`.
         let status = match confidence {
-            c if c < p.lost_below => Status::Lost,
+            c if c < p.lost_below || (lost && c < p.uncertain_below) => Status::Lost,
             c if c < p.uncertain_below => Status::Uncertain,
             _ => Status::Tracking,
         };
