@@ -1404,7 +1404,8 @@ fn eval_over_seeds() {
 
 /// The README's host quick start, run as written: every `cargo run ... --` line of its
 /// `sh` block, with the rbtrack binary, in a folder holding what the lines name
-/// (`clip.mp4` and `dump.raw`, 320x240, and a tiny `../shared/data`).
+/// (`clip.mp4` and `dump.raw`, 320x240, and a tiny `../shared/data` with a 0-based
+/// `ball1_vot15`, as the shared data has, its boxes grown by 4 px).
 #[test]
 fn readme_host_quick_start_runs_as_written() {
     const PREFIX: &str = "cargo run --release -p rbtrack-host -- ";
@@ -1434,7 +1435,12 @@ fn readme_host_quick_start_runs_as_written() {
 
     let root = temp_dir("readme");
     let work = root.join("work");
-    write_sequence(&root.join("shared/data/Tiny"), 11);
+    // Boxes grown by 4 px, so that the 7 starts' 0.95 stays at least 4 px wide.
+    let tiny = root.join("shared/data/Tiny");
+    grown(&tiny, &write_sequence(&tiny, 11));
+    let ball = root.join("shared/data/ball1_vot15");
+    let ball_truth = grown(&ball, &write_sequence(&ball, 12));
+    rewrite_zero_based(&ball, &ball_truth);
     let mut config = SceneConfig::new(Variant::Perspective, 11);
     (config.width, config.height, config.frames) = (320, 240, 10);
     let scene = Scene::new(config).unwrap();
