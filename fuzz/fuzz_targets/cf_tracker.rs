@@ -10,7 +10,8 @@
 //! step changes nothing; after every step or camera motion the centre lies inside the
 //! frame the tracker started on (a frame of another size is read clamped, the estimate
 //! stays in the start frame), the half-axes are positive, the confidence is in `[0, 1]`
-//! and a step's status is the one its confidence gives ([`rbtrack_fuzz::check_cf_estimate`]).
+//! and a step's status is the one its confidence and the last status give
+//! ([`rbtrack_fuzz::check_cf_estimate`]).
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -119,8 +120,9 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
                  e: &rbtrack::tracker::Estimate,
                  stepped: bool| {
         assert_eq!(e, tracker.estimate());
+        let previous = stepped.then_some(before.status);
         match started {
-            Some((w, h)) => check_cf_estimate(e, tracker.config(), w, h, stepped),
+            Some((w, h)) => check_cf_estimate(e, tracker.config(), w, h, previous),
             None => assert_eq!(e, before, "an unstarted tracker stays as it is"),
         }
     };

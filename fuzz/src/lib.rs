@@ -628,14 +628,15 @@ pub fn cf_init_is_valid(init: &Rect, width: usize, height: usize) -> bool {
 
 /// Checks the documented guarantees of a correlation-filter step (or camera motion) when
 /// the tracker started on a `width x height` frame: centre inside that frame, half-axes
-/// positive, confidence in `[0, 1]`, and the status the confidence and `config`'s
-/// thresholds give (with `check_status`).
+/// positive, confidence in `[0, 1]`, and, for a step after an estimate of status
+/// `previous`, the status the confidence and `config`'s thresholds give (`Lost` below
+/// `lost_below`, and after `Lost` below `uncertain_below`).
 pub fn check_cf_estimate(
     e: &Estimate,
     config: &CfConfig,
     width: usize,
     height: usize,
-    check_status: bool,
+    previous: Option<Status>,
 ) {
     let el = e.ellipse;
     let max_x = Q16::from_int(width as i32 - 1);
@@ -658,14 +659,19 @@ pub fn check_cf_estimate(
         "confidence {:?}",
         e.confidence
     );
-    if check_status {
-        let status = if e.confidence < config.lost_below {
+    if let Some(previous) = previous {
+        let held = previous == Status::Lost && e.confidence < config.uncertain_below;
+        let status = if e.confidence < config.lost_below || held {
             Status::Lost
         } else if e.confidence < config.uncertain_below {
             Status::Uncertain
         } else {
             Status::Tracking
         };
-        assert_eq!(e.status, status, "confidence {:?}", e.confidence);
+        assert_eq!(
+            e.status, status,
+            "confidence {:?} after {previous:?}",
+            e.confidence
+        );
     }
 }
