@@ -10,13 +10,8 @@
 //! (fails, with `RBTRACK_REQUIRE_BROWSER` set as CI sets it, for a missing tool). The screenshots and the
 //! boxes stay in `target/browser/`.
 
-use rbtrack::fixed::Q16;
-use rbtrack::profile::NoCounter;
-use rbtrack::tracker::CfConfig;
-use rbtrack_firmware::cf::{run_cf, FirmwareCfTracker};
-use rbtrack_firmware::run::{run_all, FirmwareTracker};
-use rbtrack_firmware::scene::FRAME_BYTES;
 use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence, GROUNDTRUTH_FILE};
+use rbtrack_web::{cf_firmware_checksum, firmware_checksum};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -183,20 +178,8 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     let doc: serde_json::Value = serde_json::from_str(figures.trim()).unwrap();
     assert!(doc["steps"].as_u64().unwrap() >= 10, "{figures}");
 
-    let mut frame = vec![0u8; FRAME_BYTES];
-    let mut tracker = Box::new(FirmwareTracker::unstarted());
-    let host = run_all(&mut tracker, &mut frame, NoCounter, |_, _| {}).unwrap();
-    let mut tracker = Box::new(FirmwareCfTracker::unstarted());
-    let cf = run_cf(
-        CfConfig::default(),
-        &mut tracker,
-        Q16::ONE,
-        &mut frame,
-        NoCounter,
-        |_| {},
-    )
-    .unwrap();
-    let host = [host, cf].map(|c| format!("{:#018x}", c.value()));
+    let host = [firmware_checksum(), cf_firmware_checksum()]
+        .map(|c| format!("{:#018x}", c.expect("the firmware scene's run starts")));
     for page in &checksums {
         assert_eq!(page, &host, "the page's firmware-scene checksums");
     }

@@ -615,7 +615,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
     }
 
     /// Blends the colour samples of `grid` into the model at `rate`, the target of `size`
-    /// px found `moved` patch px from its centre; returns the samples read.
+    /// px found `moved` patch px from its centre.
     fn learn_colour<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
@@ -624,7 +624,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         moved: (Q16, Q16),
         size: (Q16, Q16),
         rate: Q16,
-    ) -> u32 {
+    ) {
         let shrink = self.config.inner_padding.saturating_mul(mean(size));
         let inner = |side: Q16, zoom: Q16| {
             side.saturating_sub(shrink)
@@ -638,7 +638,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let object = self.target_box(moved, object);
         let target = self.target_box(moved, geometry.target);
         self.colour
-            .learn::<Bn, P>(frame, grid, &object, &target, rate)
+            .learn::<Bn, P>(frame, grid, &object, &target, rate);
     }
 }
 
