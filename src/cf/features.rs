@@ -8,9 +8,12 @@
 //!   of the frame, `step = size / out`, positions in Q32.32 (`step` rounded down, off by
 //!   under `2^-23` px across the patch), and interpolated bilinearly between the 2 x 2
 //!   source pixels nearest that centre (weights Q24), whether the axis shrinks or grows,
-//!   as OpenCV's `INTER_LINEAR`: 4 reads a patch pixel whatever the region's size.
-//!   Source pixels outside the frame repeat its nearest edge. The patch's luma is kept in
-//!   Q8 (`1/256`).
+//!   as OpenCV's `INTER_LINEAR`. Source pixels outside the frame repeat its nearest
+//!   edge. Each column's two source pixels (clamped) and weight are found once; the luma
+//!   of both at the two frame rows of the last patch row is kept, so that a frame row is
+//!   read once for all the patch rows between it and its neighbour: 4 reads a patch pixel
+//!   where the region shrinks by 2 or more, 2 where by 1 to 2, fewer where it grows. The
+//!   patch's luma is kept in Q8 (`1/256`).
 //! - **Gradient.** Central differences of the patch luma (one-sided at its edge), Q9 luma
 //!   per px; the magnitude by [`sqrt_u64_q8`] (no per-pixel division), Q13; the orientation
 //!   folded into the upper half-plane and binned by integer cross products against the
@@ -40,17 +43,18 @@
 //! either bin), the pixel's share of a cell moves from one channel to the next, and a
 //! strong pixel in a weak block moves a whole clipped value.
 //!
-//! Working memory, on the stack: three patch rows (`3 x 512` u16: the row below is
-//! sampled before the gradients of a row are taken), the histograms of two cell rows
-//! (`2 x 66 x 9` u32: a pixel row reaches only the cell rows on either side of it, and a
-//! padding cell at either end), three rows of root energies (`3 x 64` u32: a cell row's
-//! normalisers need the rows above and below) and one row of block normalisers (`65` u64,
-//! each computed once), 9,112 bytes; the luma sums of a cell row are kept in `out` until it
-//! is complete. On the Cortex-M4 (thumbv7em, opt-level `s`) `extract` takes 9,400 bytes and
-//! 9,652 with its deepest calls.
+//! Working memory, on the stack, for a patch of at most 256 px a side: the columns' source
+//! pixels and weights (`256 x 8` bytes) and the luma of two frame rows at them
+//! (`2 x 256 x 2` u8), three patch rows (`3 x 256` u16: the row below is sampled before the
+//! gradients of a row are taken), the histograms of two cell rows (`2 x 34 x 9` u32: a
+//! pixel row reaches only the cell rows on either side of it, and a padding cell at either
+//! end), three rows of root energies (`3 x 32` u32: a cell row's normalisers need the rows
+//! above and below) and one row of block normalisers (`33` u64, each computed once), 7,720
+//! bytes; the luma sums of a cell row are kept in `out` until it is complete. On the
+//! Cortex-M4 (thumbv7em, opt-level `s`) `extract`'s frame is 8,616 bytes.
 
 use crate::fixed::{div_u64_u32, sqrt_u64_q8, Q16};
-use crate::image::{ImageView, PixelFormat, Row};
+use crate::image::{ImageView, PixelFormat};
 
 /// Channels per cell: `[0]` the mean luma, `[1..10]` the 9 unsigned fHOG channels.
 pub const CHANNELS: usize = 10;
@@ -59,8 +63,9 @@ pub const CHANNELS: usize = 10;
 /// `[1..10]` unsigned fHOG (each in `[0, 0.4]`).
 pub type Cell = [i16; CHANNELS];
 
-/// Largest grid side, cells.
-pub const MAX_CELLS: usize = 64;
+/// Largest grid side, cells: the translation filter's grid (`G <= 32`) and the scale
+/// filter's samples (at most 32 cells) fit.
+pub const MAX_CELLS: usize = 32;
 
 /// Largest cell side, px of the patch.
 pub const MAX_CELL: usize = 8;
@@ -128,12 +133,13 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
     let mut ys = Axis::new(sampling.cy, sampling.height, h);
 
     let mut patch = [[0u16; MAX_PX]; 3];
+    let mut source = SourceRows::new(frame, xs, w);
     let mut hist = NO_HIST;
     let mut energy = [[0u32; MAX_CELLS]; 3];
     let mut blocks = [0u64; MAX_CELLS + 1];
 
     if let Some(ty) = ys.next() {
-        sample_row(frame, xs, ty, &mut patch[0][..w]);
+        source.sample(frame, ty, &mut patch[0][..w]);
     }
     let mut sy = Split::first(cell);
     let (mut luma_row, mut luma_lines) = (0, 0);
@@ -142,7 +148,7 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
         // of `p` are taken, over the row above.
         if p + 1 < h {
             if let Some(ty) = ys.next() {
-                sample_row(frame, xs, ty, &mut patch[(p + 1) % 3][..w]);
+                source.sample(frame, ty, &mut patch[(p + 1) % 3][..w]);
             }
         }
         let around = [p.saturating_sub(1), p, (p + 1).min(h - 1)].map(|i| &patch[i % 3][..w]);
@@ -220,15 +226,6 @@ struct Taps {
     f: u32,
 }
 
-impl Taps {
-    /// The frame rows of a patch row's taps, clamped into the frame.
-    #[inline(always)]
-    fn rows<'a, P: PixelFormat>(self, frame: &ImageView<'a, P>) -> [Row<'a, P>; 2] {
-        let row = |y: i32| frame.row(frame.clamp(0, y).1);
-        [row(self.first), row(self.first.saturating_add(1))]
-    }
-}
-
 /// The centres of successive patch pixels along one axis, as `RgbImage::patch` takes them
 /// with `Resample::Bilinear`.
 #[derive(Clone, Copy, Debug)]
@@ -267,23 +264,89 @@ impl Iterator for Axis {
     }
 }
 
-/// The patch row of row taps `ty` along `xs`'s first `out.len()` column taps, luma in Q8.
-fn sample_row<P: PixelFormat>(frame: &ImageView<'_, P>, xs: Axis, ty: Taps, out: &mut [u16]) {
-    let [top, bottom] = ty.rows(frame);
-    let (w_top, w_bottom) = (u64::from((1 << 24) - ty.f), u64::from(ty.f));
-    for (v, tx) in out.iter_mut().zip(xs) {
-        let (x0, x1) = (
-            frame.clamp(tx.first, 0).0,
-            frame.clamp(tx.first.saturating_add(1), 0).0,
-        );
-        // Values (at most 255) times Q24: below 2^32.
-        let along = |row: Row<'_, P>| {
-            let (l0, l1) = (u32::from(row.luma(x0)), u32::from(row.luma(x1)));
-            u64::from(((1 << 24) - tx.f) * l0 + tx.f * l1)
+/// A patch column's two source pixels, clamped into the frame, px, and the weight of the
+/// second, Q24.
+#[derive(Clone, Copy, Debug, Default)]
+struct Column {
+    x: [u16; 2],
+    f: u32,
+}
+
+/// The patch's columns and the luma of two frame rows at each column's two source pixels:
+/// a patch row between the same frame rows as the last (a region that grows) or sharing
+/// one with it reads the frame only for the row it lacks.
+struct SourceRows {
+    columns: [Column; MAX_PX],
+    /// `luma[slot][i]`: the luma of patch column `i`'s two source pixels.
+    luma: [[[u8; 2]; MAX_PX]; 2],
+    /// The frame row each slot holds.
+    row: [Option<usize>; 2],
+}
+
+impl SourceRows {
+    /// The first `w` columns of `xs`, nothing read yet.
+    fn new<P: PixelFormat>(frame: &ImageView<'_, P>, xs: Axis, w: usize) -> Self {
+        let mut columns = [Column::default(); MAX_PX];
+        for (c, tx) in columns.iter_mut().take(w).zip(xs) {
+            // Clamped into the frame (at most `MAX_SIDE - 1`): they fit a `u16`.
+            let x = [tx.first, tx.first.saturating_add(1)].map(|x| frame.clamp(x, 0).0 as u16);
+            *c = Column { x, f: tx.f };
+        }
+        Self {
+            columns,
+            luma: [[[0; 2]; MAX_PX]; 2],
+            row: [None; 2],
+        }
+    }
+
+    /// The patch row of row taps `ty`, luma in Q8, one value for each of `out`'s columns:
+    /// each patch pixel interpolated bilinearly between its 2 x 2 source pixels.
+    fn sample<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, ty: Taps, out: &mut [u16]) {
+        let [top, bottom] = [ty.first, ty.first.saturating_add(1)].map(|y| frame.clamp(0, y).1);
+        let t = self.load(frame, top, out.len(), bottom);
+        let b = self.load(frame, bottom, out.len(), top);
+        let (w_top, w_bottom) = (u64::from((1 << 24) - ty.f), u64::from(ty.f));
+        let [slot0, slot1] = &self.luma;
+        let pick = |s: usize| if s == 0 { slot0 } else { slot1 };
+        for ((v, c), (&[t0, t1], &[b0, b1])) in out
+            .iter_mut()
+            .zip(&self.columns)
+            .zip(pick(t).iter().zip(pick(b)))
+        {
+            // Values (at most 255) times Q24: below 2^32.
+            let along =
+                |l0: u8, l1: u8| u64::from(((1 << 24) - c.f) * u32::from(l0) + c.f * u32::from(l1));
+            // Below 255 2^48.
+            let acc = w_top * along(t0, t1) + w_bottom * along(b0, b1);
+            *v = ((acc + (1 << 39)) >> 40).min(u64::from(u16::MAX)) as u16;
+        }
+    }
+
+    /// The slot holding frame row `y` at the first `w` columns, read into the slot that
+    /// does not hold row `keep` if no slot holds `y`.
+    fn load<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        y: usize,
+        w: usize,
+        keep: usize,
+    ) -> usize {
+        if let Some(s) = self.row.iter().position(|&r| r == Some(y)) {
+            return s;
+        }
+        let s = usize::from(self.row[0] == Some(keep));
+        self.row[s] = Some(y);
+        let row = frame.row(y);
+        let luma = if s == 0 {
+            &mut self.luma[0]
+        } else {
+            &mut self.luma[1]
         };
-        // Below 255 2^48.
-        let acc = w_top * along(top) + w_bottom * along(bottom);
-        *v = ((acc + (1 << 39)) >> 40).min(u64::from(u16::MAX)) as u16;
+        for (l, c) in luma.iter_mut().zip(&self.columns).take(w) {
+            let [x0, x1] = c.x;
+            *l = [row.luma(usize::from(x0)), row.luma(usize::from(x1))];
+        }
+        s
     }
 }
 
@@ -712,7 +775,7 @@ mod tests {
             },
             Sampling {
                 cols: 100,
-                rows: 65,
+                rows: MAX_CELLS + 1,
                 cell: 9,
                 ..base
             },
@@ -739,7 +802,7 @@ mod tests {
             },
         ];
         for s in cases {
-            for len in [0, 1, 7, 64 * 64] {
+            for len in [0, 1, 7, MAX_CELLS * MAX_CELLS] {
                 let mut out = vec![[0x55i16; CHANNELS]; len];
                 extract(&frame, &s, &mut out);
                 let cells = s.cols.clamp(1, MAX_CELLS) * s.rows.clamp(1, MAX_CELLS);
@@ -752,15 +815,15 @@ mod tests {
             }
         }
         // The clamped grid is the grid asked for in range.
-        let mut a = vec![[0i16; CHANNELS]; 64 * 64];
+        let mut a = vec![[0i16; CHANNELS]; MAX_CELLS * MAX_CELLS];
         let mut b = a.clone();
         extract(&frame, &cases[1], &mut a);
         extract(
             &frame,
             &Sampling {
-                cols: 64,
-                rows: 64,
-                cell: 8,
+                cols: MAX_CELLS,
+                rows: MAX_CELLS,
+                cell: MAX_CELL,
                 ..base
             },
             &mut b,

@@ -39,7 +39,7 @@
 
 use super::features::{self, Cell, Sampling, CHANNELS};
 use crate::fft::{forward, inverse, Complex};
-use crate::fixed::Q16;
+use crate::fixed::{isqrt_u64, Q16};
 use crate::image::{ImageView, PixelFormat};
 use crate::likelihood::exp_neg;
 
@@ -135,7 +135,7 @@ impl Grid {
         let area = settings.area as u64;
         let side = |a: u64, b: u64| match (a * b) >> 32 > area {
             // floor(a sqrt(area / (a b))) = floor(sqrt(area a / b))
-            true => (area * a).checked_div(b).unwrap_or(0).isqrt(),
+            true => isqrt_u64((area * a).checked_div(b).unwrap_or(0)),
             false => a / one,
         };
         let min = 2 * settings.cell;

@@ -28,7 +28,7 @@ mod sqrt;
 #[doc(hidden)]
 pub use div::div_u64_u32;
 #[doc(hidden)]
-pub use sqrt::{isqrt32, sqrt_q8, sqrt_u64_q8, SQRT_FRAC_BITS};
+pub use sqrt::{isqrt32, isqrt_u64, sqrt_q8, sqrt_u64_q8, SQRT_FRAC_BITS};
 
 /// `2^16`, a [`Q16`]'s raw value per unit, as a float (for the float conversions).
 const SCALE: f64 = (1u32 << Q16::FRAC_BITS) as f64;
@@ -180,7 +180,7 @@ impl Q16 {
             return Self::ZERO;
         }
         // sqrt(v 2^16) 2^8 = sqrt(v 2^32) = sqrt(v) 2^16
-        Self(((self.0 as u64) << Self::FRAC_BITS).isqrt() as i32)
+        Self(isqrt_u64((self.0 as u64) << Self::FRAC_BITS) as i32)
     }
 
     /// The smaller of two values.

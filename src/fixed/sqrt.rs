@@ -1,5 +1,7 @@
 //! Integer square roots by table: [`sqrt_q8`] to 1/256 and the exact [`isqrt32`], with no
-//! division and no bit-by-bit loop.
+//! division and no bit-by-bit loop; and the exact [`isqrt_u64`] for set-up work, a
+//! bit-by-bit loop a tenth the size of `u64::isqrt` (about 60 bytes against 610 on the
+//! Cortex-M4), where flash counts more than the 32 steps.
 
 /// Fraction bits of [`sqrt_q8`]'s result (Q24.8).
 pub const SQRT_FRAC_BITS: u32 = 8;
@@ -64,6 +66,25 @@ pub fn isqrt32(n: u32) -> u32 {
     m
 }
 
+/// `floor(sqrt(n))`, exactly, for any `u64`: two result bits a step, 32 steps at most.
+pub const fn isqrt_u64(n: u64) -> u64 {
+    let (mut rest, mut root) = (n, 0u64);
+    let mut bit = 1u64 << 62;
+    while bit > n {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if rest >= root + bit {
+            rest -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,6 +135,22 @@ mod tests {
             "{top}"
         );
         assert_eq!(sqrt_u64_q8(1 << 40), 1 << 28);
+    }
+
+    #[test]
+    fn isqrt_u64_is_exact() {
+        let mut r = Rng::new(7);
+        for k in 0..1_000_000u32 {
+            let n = (u64::from(r.next_u32()) << 32 | u64::from(r.next_u32())) >> (k % 64);
+            assert_eq!(isqrt_u64(n), n.isqrt(), "{n}");
+        }
+        for n in (0..70_000).chain([u64::MAX, u64::MAX - 1, 1 << 62, (1 << 62) - 1, 1 << 63]) {
+            assert_eq!(isqrt_u64(n), n.isqrt(), "{n}");
+        }
+        let r = u64::from(u32::MAX);
+        for n in [r * r, r * r - 1, r * r + 1] {
+            assert_eq!(isqrt_u64(n), n.isqrt(), "{n}");
+        }
     }
 
     #[test]
