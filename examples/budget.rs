@@ -12,8 +12,10 @@
 //! - one 2-D forward FFT of a 32 x 32 grid of full-scale Q31 samples (`rbtrack::fft`, the
 //!   correlation filter's transform);
 //! - the correlation-filter tracker (`rbtrack::tracker::CfTracker`) stage by stage, mean and
-//!   largest, and its `size_of`: against its grid (`G`, 8 or 16 cells a side), cell side,
-//!   scales (`S`) and the scale model's area, then against target size at the defaults.
+//!   largest, the largest step while lost (with its re-detection: the ring's searches) and
+//!   its `size_of`: against its grid (`G`, 8 or 16 cells a side), cell side,
+//!   scales (`S`), the scale model's area and the ring regions searched while lost, then
+//!   against target size at the defaults.
 //!   Its 10 feature channels are fixed. Its 32 x 32 grid does not fit beside the frame
 //!   buffer and the stack in the board's RAM: the example prints its size instead.
 //!
@@ -34,7 +36,7 @@ mod budget {
     use rbtrack::cf::scale::ScaleSettings;
     use rbtrack::fft::{self, Complex};
     use rbtrack::fixed::Q16;
-    use rbtrack::image::Rgb8x8x8;
+    use rbtrack::image::{ImageView, Rgb565Le, Rgb8x8x8};
     use rbtrack::pantilt::{PanTilt, PanTiltConfig};
     use rbtrack::profile::{CycleCounter, StageCycles};
     use rbtrack::rng::Rng;
@@ -58,6 +60,9 @@ mod budget {
         (25, 100, 12),
     ];
 
+    /// Black frames stepped after the scene to measure a lost step.
+    const LOST_FRAMES: usize = 3;
+
     /// Particle counts of the sweep.
     const COUNTS: [usize; 5] = [25, 50, 100, 200, 400];
 
@@ -69,16 +74,19 @@ mod budget {
     type Cf<const G: usize, const S: usize> = CfTracker<Rgb8x8x8, BINS, G, S>;
 
     /// Correlation-filter configurations: cells a side (`G`), scales (`S`), cell side (px),
-    /// the scale model's largest area (px^2). The first is the default.
-    const CF_CONFIGS: [(usize, usize, usize, u32); 8] = [
-        (16, 8, 4, 512),
-        (16, 8, 2, 512),
-        (16, 4, 4, 256),
-        (8, 8, 8, 512),
-        (8, 4, 8, 256),
-        (8, 4, 4, 256),
-        (8, 4, 4, 128),
-        (8, 4, 4, 96),
+    /// the scale model's largest area (px^2), ring regions searched while lost. The first is
+    /// the default; `8 4 4 128 0` the budget configuration (docs/accuracy.md).
+    const CF_CONFIGS: [(usize, usize, usize, u32, usize); 10] = [
+        (16, 8, 4, 512, 2),
+        (16, 8, 4, 512, 0),
+        (16, 8, 2, 512, 2),
+        (16, 4, 4, 256, 2),
+        (8, 8, 8, 512, 2),
+        (8, 4, 8, 256, 2),
+        (8, 4, 4, 256, 2),
+        (8, 4, 4, 128, 2),
+        (8, 4, 4, 128, 0),
+        (8, 4, 4, 96, 0),
     ];
 
     /// The trackers other than the board's N = 100, one at a time in one static the size
@@ -155,16 +163,18 @@ mod budget {
 
     /// The correlation-filter tracker's cost over the scene with its target times `scale`:
     /// mean instructions per stage (features, filter, colour, scale, learn) and of a step,
-    /// then the largest of a step; and the mean target height, px.
+    /// then the largest of a step, then the largest step while lost and its re-detection
+    /// (the scene's last frame followed by [`LOST_FRAMES`] black ones: the first reports
+    /// `Lost`, the others search the ring too); and the mean target height, px.
     fn measure_cf<const G: usize, const S: usize>(
         tracker: &mut Cf<G, S>,
         frame: &mut [u8],
         counter: &mut SysTick,
         config: CfConfig,
         scale: Q16,
-    ) -> ([u64; 7], u64) {
+    ) -> ([u64; 9], u64) {
         let (mut sums, mut most, mut height) = ([0u64; 6], 0u32, 0u64);
-        let result = run_cf(config, tracker, scale, frame, counter, |r| {
+        let result = run_cf(config, tracker, scale, frame, &mut *counter, |r| {
             let c = r.cycles;
             let row = [c.features, c.filter, c.colour, c.scale, c.learn, c.total()];
             for (sum, v) in sums.iter_mut().zip(row) {
@@ -178,7 +188,21 @@ mod budget {
         }
         let mean = sums.map(|s| s / FRAMES as u64);
         let [f, t, c, s, l, total] = mean;
-        ([f, t, c, s, l, total, most as u64], height / FRAMES as u64)
+        frame.fill(0);
+        let mut lost = (0, 0);
+        for _ in 0..LOST_FRAMES {
+            let view = ImageView::<Rgb565Le>::new(frame, scene::WIDTH, scene::HEIGHT, scene::WIDTH);
+            let Ok(view) = view else {
+                panic!("the frame buffer holds a QVGA frame");
+            };
+            let (e, c) = tracker.step_profiled(&view, &mut *counter);
+            if e.status == Status::Lost && c.total() > lost.0 {
+                lost = (c.total(), c.redetect);
+            }
+        }
+        let lost = [lost.0 as u64, lost.1 as u64];
+        let row = [f, t, c, s, l, total, most as u64, lost[0], lost[1]];
+        (row, height / FRAMES as u64)
     }
 
     /// [`measure_cf`] on a tracker of `g` cells and `s` scales made in place in [`OTHER`],
@@ -190,7 +214,7 @@ mod budget {
         counter: &mut SysTick,
         config: CfConfig,
         scale: Q16,
-    ) -> (usize, [u64; 7], u64) {
+    ) -> (usize, [u64; 9], u64) {
         // A constant, so that it is copied into the static without a stack temporary.
         macro_rules! in_other {
             ($variant:ident, $g:literal, $s:literal) => {{
@@ -402,12 +426,13 @@ mod budget {
         hprintln!("");
         hprintln!("correlation-filter tracker, instructions per frame by stage (mean), total (mean, max):");
         hprintln!(
-            " G  S cell area  size_of B  features   filter   colour    scale    learn     total       max"
+            " G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect"
         );
-        for (g, s, cell, area) in CF_CONFIGS {
+        for (g, s, cell, area, ring) in CF_CONFIGS {
             let defaults = CfConfig::default();
             let config = CfConfig {
                 cell,
+                redetect: ring,
                 scale: ScaleSettings {
                     area,
                     ..defaults.scale
@@ -417,11 +442,12 @@ mod budget {
             let f = &mut frame[..];
             let (size, c, _) = measure_cf_in((g, s), other, f, &mut counter, config, Q16::ONE);
             hprintln!(
-                "{:>2} {:>2} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9}",
+                "{:>2} {:>2} {:>4} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>9} {:>8}",
                 g,
                 s,
                 cell,
                 area,
+                ring,
                 size,
                 c[0],
                 c[1],
@@ -429,11 +455,13 @@ mod budget {
                 c[3],
                 c[4],
                 c[5],
-                c[6]
+                c[6],
+                c[7],
+                c[8]
             );
         }
         hprintln!(
-            "32  8    4  512 {:>9}  not run: with the {} B frame buffer and the {} B stack \
+            "32  8    4  512    2 {:>9}  not run: with the {} B frame buffer and the {} B stack \
              budget it exceeds the board's 320 KiB of RAM",
             core::mem::size_of::<Cf<32, 8>>(),
             scene::FRAME_BYTES,

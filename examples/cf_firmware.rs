@@ -50,8 +50,16 @@ mod firmware {
     static TRACKER: ConstStaticCell<FirmwareCfTracker> =
         ConstStaticCell::new(FirmwareCfTracker::unstarted());
 
-    fn stages(c: &CfStageCycles) -> [u32; 6] {
-        [c.features, c.filter, c.colour, c.scale, c.learn, c.total()]
+    fn stages(c: &CfStageCycles) -> [u32; 7] {
+        [
+            c.features,
+            c.filter,
+            c.colour,
+            c.scale,
+            c.learn,
+            c.redetect,
+            c.total(),
+        ]
     }
 
     fn status(s: Status) -> &'static str {
@@ -99,9 +107,9 @@ mod firmware {
             core::mem::size_of::<FirmwareCfTracker>()
         );
         hprintln!(
-            "frame features  filter  colour   scale   learn    total |    cx    cy    hx    hy  conf status"
+            "frame features  filter  colour   scale   learn redetect    total |    cx    cy    hx    hy  conf status"
         );
-        let (mut sum, mut max, mut iou) = ([0u64; 6], [0u32; 6], 0u32);
+        let (mut sum, mut max, mut iou) = ([0u64; 7], [0u32; 7], 0u32);
         let mut report = |r: &CfFrameReport| {
             iou += iou_permille(&r.estimate.ellipse, &r.truth);
             let s = stages(&r.cycles);
@@ -111,7 +119,7 @@ mod firmware {
             }
             let e = r.estimate;
             hprintln!(
-                "{:>5} {:>8} {:>7} {:>7} {:>7} {:>7} {:>8} | {:>5} {:>5} {:>5} {:>5} {:>5} {}",
+                "{:>5} {:>8} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8} | {:>5} {:>5} {:>5} {:>5} {:>5} {}",
                 r.frame,
                 s[0],
                 s[1],
@@ -119,6 +127,7 @@ mod firmware {
                 s[3],
                 s[4],
                 s[5],
+                s[6],
                 px(e.ellipse.cx),
                 px(e.ellipse.cy),
                 px(e.ellipse.hx),
@@ -141,7 +150,7 @@ mod firmware {
         let mean = sum.map(|v| v / FRAMES as u64);
         for (what, v) in [("mean", mean.map(|m| m as u32)), ("largest", max)] {
             hprintln!(
-                "cf ({}) {}: features {} filter {} colour {} scale {} learn {} total {}",
+                "cf ({}) {}: features {} filter {} colour {} scale {} learn {} redetect {} total {}",
                 unit,
                 what,
                 v[0],
@@ -149,7 +158,8 @@ mod firmware {
                 v[2],
                 v[3],
                 v[4],
-                v[5]
+                v[5],
+                v[6]
             );
         }
         let iou = iou / FRAMES as u32;

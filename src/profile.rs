@@ -86,16 +86,25 @@ pub struct CfStageCycles {
     pub scale: u32,
     /// The three models' learning.
     pub learn: u32,
+    /// The searches of other regions while the target is lost (their features, filter and
+    /// colour responses).
+    pub redetect: u32,
 }
 
 impl CfStageCycles {
     /// Sum of all stages.
     pub fn total(&self) -> u32 {
+        self.search()
+            .saturating_add(self.scale)
+            .saturating_add(self.learn)
+            .saturating_add(self.redetect)
+    }
+
+    /// One region's search: its features, filter and colour responses.
+    pub(crate) fn search(&self) -> u32 {
         self.features
             .saturating_add(self.filter)
             .saturating_add(self.colour)
-            .saturating_add(self.scale)
-            .saturating_add(self.learn)
     }
 }
 

@@ -513,6 +513,10 @@ pub struct CfConfigSpec {
     pub learn_above: Option<Q>,
     pub uncertain_below: Option<Q>,
     pub lost_below: Option<Q>,
+    pub redetect: Option<u8>,
+    pub redetect_above: Option<Q>,
+    pub redetect_colour: Option<Q>,
+    pub coast: Option<bool>,
 }
 
 impl CfConfigSpec {
@@ -556,6 +560,14 @@ impl CfConfigSpec {
         set(&mut c.learn_above, self.learn_above);
         set(&mut c.uncertain_below, self.uncertain_below);
         set(&mut c.lost_below, self.lost_below);
+        if let Some(v) = self.redetect {
+            c.redetect = v.into();
+        }
+        set(&mut c.redetect_above, self.redetect_above);
+        set(&mut c.redetect_colour, self.redetect_colour);
+        if let Some(v) = self.coast {
+            c.coast = v;
+        }
         c
     }
 }

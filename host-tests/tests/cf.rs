@@ -6,6 +6,7 @@ use rbtrack::tracker::Variant;
 use rbtrack_host::cf64::Params;
 use rbtrack_host::metrics::BBox;
 use rbtrack_host::pixels::Frame;
+use rbtrack_host::recovery::recovery;
 use rbtrack_host::run::{track, CoreCf, Options, CF_GRID, CF_SCALES, CF_SHAPES};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant as SceneVariant};
 use rbtrack_host::sequence::{sequence_names, shared_data_dir, GtOrigin, Sequence};
@@ -142,4 +143,33 @@ fn one_step_agrees_with_the_f64_reference_on_real_frames() {
             "{grid} x {grid}, {scales}: {share} {farthest}"
         );
     }
+}
+
+/// While lost, the integer tracker searches as its reference does: on the occlusion scene
+/// (seeds 1-3), coasting with its ring search (2 regions a frame, the default), both find the
+/// walker again within 10 frames of him being fully visible on every seed; the defaults
+/// (no coasting) on at most one; every frame he is hidden is `Lost` in both.
+#[test]
+fn re_detection_and_coasting_follow_the_f64_reference() {
+    let mut found_without = 0;
+    for coast in [false, true] {
+        for seed in 1..=3 {
+            let scene = Scene::new(SceneConfig::new(SceneVariant::Occlusion, seed)).expect("scene");
+            let mut cf = CoreCf::default();
+            cf.config.coast = coast;
+            let [core, reference] = both(cf).map(|o| recovery(&scene, &o).expect("starts"));
+            println!("coast {coast}, seed {seed}: integer {core:?}, f64 {reference:?}");
+            for r in [core, reference] {
+                assert_eq!(r.lost_while_hidden, r.hidden, "coast {coast}, seed {seed}");
+            }
+            match coast {
+                true => assert!(core.within(10) && reference.within(10), "seed {seed}"),
+                false => found_without += usize::from(core.within(10)),
+            }
+        }
+    }
+    assert!(
+        found_without <= 1,
+        "found without coasting on {found_without} seeds"
+    );
 }

@@ -18,6 +18,15 @@
 //!    the search region's spectra and colour samples with the target where it was found,
 //!    and the scale samples.
 //!
+//! While the target is lost the tracker may search `redetect` more regions a frame, on a
+//! ring half a region from where it was last seen, and may centre its searches where the
+//! velocity it had when lost puts it (`coast`); a ring region takes over only when its
+//! merged peak and colour score clear `redetect_above` and `redetect_colour` and its peak
+//! beats the usual region's. A frame's work is then at most `redetect + 2` searches (the
+//! ring, the usual region and, when a ring region takes over, that region again so that the
+//! filter learns its spectra). By default it searches 2 ring regions a frame and does not
+//! coast (docs/accuracy.md measures both).
+//!
 //! # Memory
 //! `size_of::<CfTracker<Bn, B, G, S>>()` is dominated by the translation filter (its
 //! numerator and the last spectra, half spectra of `10 G (G/2 + 1)` complex values each),
@@ -38,6 +47,18 @@ use core::marker::PhantomData;
 
 /// Smallest target side, px.
 const MIN_SIDE: i32 = 4;
+
+/// The re-detection ring: offsets from where the target was last seen, half regions.
+const RING: [(i32, i32); 8] = [
+    (1, 0),
+    (-1, 0),
+    (0, 1),
+    (0, -1),
+    (1, 1),
+    (-1, -1),
+    (1, -1),
+    (-1, 1),
+];
 
 /// The correlation-filter tracker's settings. [`CfConfig::default`] is the configuration
 /// docs/accuracy.md measures.
@@ -78,6 +99,17 @@ pub struct CfConfig {
     /// stays lost until the confidence reaches `uncertain_below` (no flicker about one
     /// threshold).
     pub lost_below: Q16,
+    /// Regions searched besides the usual one each frame while lost, `0..=8`: the next of
+    /// a ring of 8, each half a region from where the target was last seen.
+    pub redetect: usize,
+    /// A ring region takes over when its merged peak is at least this, Q16.16...
+    pub redetect_above: Q16,
+    /// ...and its colour score (the object probability at its peak) at least this,
+    /// Q16.16.
+    pub redetect_colour: Q16,
+    /// While lost, search where the target would be had it kept the velocity it had when
+    /// lost.
+    pub coast: bool,
 }
 
 impl CfConfig {
@@ -109,6 +141,10 @@ impl CfConfig {
             learn_above: q(0.2),
             uncertain_below: q(0.3),
             lost_below: q(0.22),
+            redetect: 2,
+            redetect_above: q(0.3),
+            redetect_colour: q(0.5),
+            coast: false,
         }
     };
 
@@ -128,6 +164,10 @@ impl CfConfig {
         learn_above: Q16::ZERO,
         uncertain_below: Q16::ZERO,
         lost_below: Q16::ZERO,
+        redetect: 0,
+        redetect_above: Q16::ZERO,
+        redetect_colour: Q16::ZERO,
+        coast: false,
     };
 }
 
@@ -168,7 +208,10 @@ impl CfConfig {
         check(
             self.lost_below >= Q16::ZERO && self.lost_below <= self.uncertain_below,
             "lost_below",
-        )
+        )?;
+        check(self.redetect <= RING.len(), "redetect")?;
+        check(unit(self.redetect_above), "redetect_above")?;
+        check(unit(self.redetect_colour), "redetect_colour")
     }
 }
 
@@ -220,6 +263,16 @@ pub struct CfTracker<Bn: Binning, const B: usize, const G: usize, const S: usize
     cells: [[Cell; G]; G],
     /// The translation filter's last response, Q16.16.
     response: [[i32; G]; G],
+    /// The centre's step, smoothed (half the last step and half the previous value), px a
+    /// frame, Q16.16.
+    velocity: (Q16, Q16),
+    /// Where the target was last seen, or, coasting, where the velocity it had then puts
+    /// it now, px, Q16.16.
+    anchor: (Q16, Q16),
+    /// The smoothed velocity when the target was lost, px a frame, Q16.16.
+    lost_velocity: (Q16, Q16),
+    /// Frames lost in a row.
+    lost_frames: usize,
     estimate: Estimate,
     _binning: PhantomData<Bn>,
 }
@@ -232,6 +285,8 @@ struct Detection {
     moved: (Q16, Q16),
     /// The merged response's peak, Q16.16.
     peak: Q16,
+    /// The colour response at the peak's cell, Q16.16.
+    colour: Q16,
     geometry: Geometry,
     grid: Grid,
 }
@@ -261,6 +316,10 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             map: ColourMap::new(),
             cells: [[[0; CHANNELS]; G]; G],
             response: [[0; G]; G],
+            velocity: (Q16::ZERO, Q16::ZERO),
+            anchor: (Q16::ZERO, Q16::ZERO),
+            lost_velocity: (Q16::ZERO, Q16::ZERO),
+            lost_frames: 0,
             estimate: Estimate::at_rest(origin, Q16::ZERO, Status::Lost),
             _binning: PhantomData,
         }
@@ -304,6 +363,10 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.centre = centre;
         self.size = size;
         self.base = size;
+        self.velocity = (Q16::ZERO, Q16::ZERO);
+        self.anchor = centre;
+        self.lost_velocity = (Q16::ZERO, Q16::ZERO);
+        self.lost_frames = 0;
         self.factor_bounds = (
             ratio(MIN_SIDE, size.0).max(ratio(MIN_SIDE, size.1)),
             ratio(frame_size.0, size.0)
@@ -361,10 +424,40 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
         let c = self.config;
         let previous = self.centre;
-        let found = self.detect(frame, previous, &mut watch, &mut cycles);
+        let lost = self.estimate.status == Status::Lost;
+        if lost && c.coast {
+            let (x, y) = self.anchor;
+            let (vx, vy) = self.lost_velocity;
+            self.anchor = self.inside((x.saturating_add(vx), y.saturating_add(vy)));
+        }
+        let search = match lost && c.coast {
+            true => self.anchor,
+            false => previous,
+        };
+        let ring = match lost {
+            true => self.search_ring(frame, &mut watch, &mut cycles),
+            false => None,
+        };
+        let mut found = self.detect(frame, search, &mut watch, &mut cycles);
+        if let Some((centre, _)) = ring.filter(|&(_, peak)| peak > found.peak) {
+            // Searched again (the same detection) so that the filter holds this region's
+            // spectra to learn.
+            let mut spent = CfStageCycles::default();
+            found = self.detect(frame, centre, &mut watch, &mut spent);
+            cycles.redetect = cycles.redetect.saturating_add(spent.search());
+        }
         self.centre = found.found;
         let confidence = found.peak.max(Q16::ZERO).min(Q16::ONE);
         let status = c.status(confidence, self.estimate.status);
+        if status == Status::Lost {
+            if self.lost_frames == 0 {
+                self.lost_velocity = self.velocity;
+            }
+            self.lost_frames = self.lost_frames.saturating_add(1);
+        } else {
+            self.lost_frames = 0;
+            self.anchor = self.centre;
+        }
 
         let factor = self
             .scale
@@ -398,6 +491,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             self.centre.0.saturating_sub(previous.0),
             self.centre.1.saturating_sub(previous.1),
         );
+        let halfway = |a: Q16, b: Q16| Q16::saturate((a.to_bits() as i64 + b.to_bits() as i64) / 2);
+        self.velocity = (
+            halfway(self.velocity.0, velocity.0),
+            halfway(self.velocity.1, velocity.1),
+        );
         self.estimate = Estimate {
             ellipse: self.ellipse(),
             vx: velocity.0,
@@ -416,12 +514,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         if self.config.cell == 0 {
             return;
         }
-        let (x, y) = motion.point(self.centre.0, self.centre.1);
-        let last = |n: i32| Q16::from_int(n - 1);
-        self.centre = (
-            x.max(Q16::ZERO).min(last(self.frame_size.0)),
-            y.max(Q16::ZERO).min(last(self.frame_size.1)),
-        );
+        self.centre = self.inside(motion.point(self.centre.0, self.centre.1));
+        self.anchor = self.inside(motion.point(self.anchor.0, self.anchor.1));
+        let length = |(x, y): (Q16, Q16)| (motion.length(x), motion.length(y));
+        self.velocity = length(self.velocity);
+        self.lost_velocity = length(self.lost_velocity);
         let f = motion
             .length(self.size.0)
             .saturating_div(self.base.0)
@@ -471,7 +568,10 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let room = side
             .saturating_sub(geometry.target.0)
             .min(side.saturating_sub(geometry.target.1));
-        let reach = (room.floor_int() / 2 / c.cell as i32).clamp(0, G as i32 / 2 - 1);
+        let reach = (room.floor_int() / 2)
+            .checked_div(c.cell as i32)
+            .unwrap_or(0)
+            .clamp(0, G as i32 / 2 - 1);
         let cell = Q16::from_int(c.cell as i32);
         let merged = |dx: i32, dy: i32| -> i64 {
             let wrap = |d: i32| d.rem_euclid(G as i32) as usize;
@@ -512,19 +612,16 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             cell.mul_int(dx).saturating_add(fx.saturating_mul(cell)),
             cell.mul_int(dy).saturating_add(fy.saturating_mul(cell)),
         );
-        let last = |n: i32| Q16::from_int(n - 1);
-        let found = (
+        let found = self.inside((
             centre
                 .0
-                .saturating_add(moved.0.saturating_div(geometry.zoom.0))
-                .max(Q16::ZERO)
-                .min(last(self.frame_size.0)),
+                .saturating_add(moved.0.saturating_div(geometry.zoom.0)),
             centre
                 .1
-                .saturating_add(moved.1.saturating_div(geometry.zoom.1))
-                .max(Q16::ZERO)
-                .min(last(self.frame_size.1)),
-        );
+                .saturating_add(moved.1.saturating_div(geometry.zoom.1)),
+        ));
+        let at_peak = (cell.mul_int(dx), cell.mul_int(dy));
+        let colour = self.map.mean(&self.target_box(at_peak, geometry.target));
         cycles.colour = watch.lap();
         Detection {
             moved: (
@@ -539,9 +636,51 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             ),
             found,
             peak: Q16::saturate(best),
+            colour,
             geometry,
             grid,
         }
+    }
+
+    /// While lost: searches the next `redetect` regions of the ring around the anchor
+    /// and returns the centre and peak of the first with the best peak of those that clear
+    /// `redetect_above` and `redetect_colour`, if any. Its work is `cycles.redetect`.
+    fn search_ring<P: PixelFormat, C: CycleCounter>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        watch: &mut Stopwatch<C>,
+        cycles: &mut CfStageCycles,
+    ) -> Option<((Q16, Q16), Q16)> {
+        let c = self.config;
+        let region = self.geometry().region;
+        let half = |side: Q16, k: i32| Q16::from_bits(side.to_bits() / 2).mul_int(k);
+        let mut best: Option<((Q16, Q16), Q16)> = None;
+        // Each lost frame starts where the last one stopped.
+        let first = self.lost_frames % RING.len() * c.redetect;
+        for k in 0..c.redetect {
+            let (ox, oy) = RING[(first + k) % RING.len()];
+            let centre = self.inside((
+                self.anchor.0.saturating_add(half(region.0, ox)),
+                self.anchor.1.saturating_add(half(region.1, oy)),
+            ));
+            let mut spent = CfStageCycles::default();
+            let d = self.detect(frame, centre, watch, &mut spent);
+            cycles.redetect = cycles.redetect.saturating_add(spent.search());
+            let clears = d.peak >= c.redetect_above && d.colour >= c.redetect_colour;
+            if clears && best.is_none_or(|(_, peak)| d.peak > peak) {
+                best = Some((centre, d.peak));
+            }
+        }
+        best
+    }
+
+    /// `point` (px, Q16.16) clamped into the frame.
+    fn inside(&self, point: (Q16, Q16)) -> (Q16, Q16) {
+        let last = |n: i32| Q16::from_int(n - 1);
+        (
+            point.0.max(Q16::ZERO).min(last(self.frame_size.0)),
+            point.1.max(Q16::ZERO).min(last(self.frame_size.1)),
+        )
     }
 
     /// The search region's geometry at the current size.
@@ -553,7 +692,10 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             self.size.1.saturating_add(pad),
         );
         let side = (G * c.cell) as i64;
-        let zoom = |r: Q16| Q16::from_ratio(side << 16, r.to_bits() as i64);
+        // `Q16::from_ratio(side << 16, r)` without its 128-bit division: `side << 32` is at
+        // most 2^40 (256 px), and the region is at least 4 px (2^18).
+        let zoom =
+            |r: Q16| Q16::saturate((side << 32).checked_div(r.to_bits().into()).unwrap_or(0));
         let zoom = (zoom(region.0), zoom(region.1));
         Geometry {
             region,
@@ -670,11 +812,21 @@ mod tests {
 
     /// A 96 x 72 grey frame: a textured 16 x 20 px block at `(x0, 26)` on a darker ramp.
     fn frame(x0: usize) -> Vec<u8> {
-        let (w, h) = (96, 72);
-        let mut buf: Vec<u8> = (0..w * h).map(|i| (40 + (i % w) / 4) as u8).collect();
-        for y in 26..46 {
+        frame_at(x0, 26)
+    }
+
+    /// The 96 x 72 ramp alone.
+    fn ramp() -> Vec<u8> {
+        (0..96 * 72).map(|i| (40 + (i % 96) / 4) as u8).collect()
+    }
+
+    /// [`frame`] with the block at `(x0, y0)`.
+    fn frame_at(x0: usize, y0: usize) -> Vec<u8> {
+        let w = 96;
+        let mut buf = ramp();
+        for y in y0..y0 + 20 {
             for x in x0..x0 + 16 {
-                buf[y * w + x] = if (x - x0) / 4 % 2 == (y / 5) % 2 {
+                buf[y * w + x] = if (x - x0) / 4 % 2 == ((y - y0 + 26) / 5) % 2 {
                     230
                 } else {
                     150
@@ -726,6 +878,14 @@ mod tests {
                 steep,
                 Rect::new(20, 26, 16, 20),
                 ConfigError::OutOfRange("scale.step"),
+            ),
+            (
+                CfConfig {
+                    redetect: 9,
+                    ..good
+                },
+                Rect::new(20, 26, 16, 20),
+                ConfigError::OutOfRange("redetect"),
             ),
             (good, Rect::new(20, 26, 3, 20), ConfigError::InitialTooSmall),
             (
@@ -796,6 +956,58 @@ mod tests {
             "{:?}",
             e.ellipse
         );
+    }
+
+    /// Steps of 1 count: each stage's lap is 1 per stopwatch lap.
+    struct Laps(u32);
+
+    impl CycleCounter for Laps {
+        fn now(&mut self) -> u32 {
+            self.0 += 1;
+            self.0
+        }
+    }
+
+    /// The block leaves for 4 frames (the tracker is lost) and comes back half a region
+    /// right of where it was last seen, beyond the usual search's reach: with re-detection
+    /// (2 ring regions a frame, 3 laps each, and 3 more for the region that takes over) the
+    /// ring's region there finds it on that frame; without, the tracker is still lost.
+    #[test]
+    fn re_detection_finds_the_target_half_a_region_away() {
+        let first = frame(20);
+        let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+        let empty = ramp();
+        let empty = ImageView::<Gray8>::new(&empty, 96, 72, 96).unwrap();
+        for redetect in [0, 2] {
+            let config = CfConfig {
+                redetect,
+                ..CfConfig::default()
+            };
+            let mut tracker = Small::new(config, &view, Rect::new(20, 26, 16, 20)).unwrap();
+            for k in 0..4 {
+                let (e, cycles) = tracker.step_profiled(&empty, Laps(0));
+                assert_eq!(e.status, Status::Lost, "redetect {redetect}, frame {k}");
+                let ring = if k == 0 { 0 } else { 3 * redetect as u32 };
+                assert_eq!(cycles.redetect, ring, "redetect {redetect}, frame {k}");
+            }
+            // The next step's first ring region is half a region right of the first box.
+            let half = tracker.geometry().region.0.to_f64() / 2.0;
+            let x0 = (20.0 + half).round() as usize;
+            let back = frame_at(x0, 26);
+            let back = ImageView::<Gray8>::new(&back, 96, 72, 96).unwrap();
+            let (e, cycles) = tracker.step_profiled(&back, Laps(0));
+            let cx = e.ellipse.cx.to_f64();
+            if redetect == 0 {
+                assert_eq!((e.status, cycles.redetect), (Status::Lost, 0));
+            } else {
+                assert_eq!(cycles.redetect, 9, "2 ring regions and the one taken");
+                assert_ne!(e.status, Status::Lost);
+                assert!(
+                    (cx - (x0 as f64 + 7.5)).abs() < 1.5,
+                    "centre {cx}, block at {x0}"
+                );
+            }
+        }
     }
 
     #[test]

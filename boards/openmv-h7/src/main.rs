@@ -178,7 +178,7 @@ fn f32_of(q: Q16) -> f32 {
 fn report(frame: u32, e: &Estimate, c: &CfStageCycles) {
     let el = e.ellipse;
     info!(
-        "frame {=u32}: {} conf {=f32} cx {=f32} cy {=f32} hx {=f32} hy {=f32} vx {=f32} vy {=f32} | cycles features {=u32} filter {=u32} colour {=u32} scale {=u32} learn {=u32} total {=u32}",
+        "frame {=u32}: {} conf {=f32} cx {=f32} cy {=f32} hx {=f32} hy {=f32} vx {=f32} vy {=f32} | cycles {} total {=u32}",
         frame,
         e.status,
         f32_of(e.confidence),
@@ -188,11 +188,7 @@ fn report(frame: u32, e: &Estimate, c: &CfStageCycles) {
         f32_of(el.hy),
         f32_of(e.vx),
         f32_of(e.vy),
-        c.features,
-        c.filter,
-        c.colour,
-        c.scale,
-        c.learn,
+        c,
         c.total()
     );
 }

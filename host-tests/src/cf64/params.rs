@@ -311,7 +311,8 @@ impl Params {
     /// resamples bilinearly, reads fHOG gradients of the luma, the 9 unsigned channels and
     /// the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on every second
     /// pixel of the patch, learns on the detection's patch and samples, and reads the
-    /// scale between samples without a window over them.
+    /// scale between samples without a window over them; while lost it searches as the
+    /// integer tracker does (`redetect`, `coast`).
     pub fn of_core(c: &rbtrack::tracker::CfConfig, grid: usize, scales: usize) -> Self {
         let q = |v: rbtrack::Q16| v.to_f64();
         let step = q(c.scale.step);
@@ -345,6 +346,10 @@ impl Params {
             learn_above: q(c.learn_above),
             uncertain_below: q(c.uncertain_below),
             lost_below: q(c.lost_below),
+            redetect: c.redetect,
+            redetect_above: q(c.redetect_above),
+            redetect_colour: q(c.redetect_colour),
+            coast: c.coast,
             fresh_patch: false,
             ..Self::default()
         }
@@ -402,6 +407,10 @@ impl Params {
             learn_above: q(self.learn_above),
             uncertain_below: q(self.uncertain_below),
             lost_below: q(self.lost_below),
+            redetect: self.redetect,
+            redetect_above: q(self.redetect_above),
+            redetect_colour: q(self.redetect_colour),
+            coast: self.coast,
         }
     }
 }

@@ -306,6 +306,10 @@ fn cf_json(cf: &CoreCf) -> serde_json::Value {
         "learn_above": q(c.learn_above),
         "uncertain_below": q(c.uncertain_below),
         "lost_below": q(c.lost_below),
+        "redetect": c.redetect,
+        "redetect_above": q(c.redetect_above),
+        "redetect_colour": q(c.redetect_colour),
+        "coast": c.coast,
     })
 }
 
