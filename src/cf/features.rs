@@ -13,8 +13,7 @@
 //!   of both at the two frame rows of the last patch row is kept, so that a frame row is
 //!   read once for all the patch rows between it and its neighbour: 4 reads a patch pixel
 //!   where the region shrinks by 2 or more, 2 to 4 where by 1 to 2, at most 2 where it
-//!   grows. The
-//!   patch's luma is kept in Q8 (`1/256`).
+//!   grows. The patch's luma is kept in Q8 (`1/256`).
 //! - **Gradient.** Central differences of the patch luma (one-sided at its edge), Q9 luma
 //!   per px; the magnitude by [`sqrt_u64_q8`] (no per-pixel division), Q13; the orientation
 //!   folded into the upper half-plane and binned by integer cross products against the
