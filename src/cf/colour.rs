@@ -117,6 +117,7 @@ impl SampleBox {
         (range(self.x0, self.x1), range(self.y0, self.y1))
     }
 
+    #[inline]
     fn contains(ranges: &((usize, usize), (usize, usize)), col: usize, row: usize) -> bool {
         let ((x0, x1), (y0, y1)) = *ranges;
         (x0..x1).contains(&col) && (y0..y1).contains(&row)

@@ -79,7 +79,7 @@ const BINS: usize = 9;
 /// `(cos, sin)` of the boundaries between the unsigned bins in the first quadrant, 10, 30,
 /// 50 and 70 degrees, Q30 (times a Q9 gradient below `2^18`, a cross product stays below
 /// `2^49`); those of the second quadrant are their mirror images, `180 -` these.
-const BOUNDARIES: [(i32, i32); 4] = [
+const BOUNDARIES: [(u32, u32); 4] = [
     (1_057_429_273, 186_453_311),
     (929_887_697, 536_870_912),
     (690_187_940, 822_533_958),
@@ -316,9 +316,9 @@ impl SourceRows {
             // Values (at most 255) times Q24: below 2^32.
             let along =
                 |l0: u8, l1: u8| u64::from(((1 << 24) - c.f) * u32::from(l0) + c.f * u32::from(l1));
-            // Below 255 2^48.
+            // At most 255 2^48 (the weights sum to 2^24 each way): Q8 at most 65,280.
             let acc = w_top * along(t0, t1) + w_bottom * along(b0, b1);
-            *v = ((acc + (1 << 39)) >> 40).min(u64::from(u16::MAX)) as u16;
+            *v = ((acc + (1 << 39)) >> 40) as u16;
         }
     }
 
@@ -370,9 +370,11 @@ fn unsigned_bin(gx: i32, gy: i32) -> usize {
     };
     // The first-quadrant boundaries `(ax, gy)` is past (`past(b, d)`: its cross product
     // with boundary `b` at least `d`), found in 2 or 3 comparisons.
-    let count = |ax: i32, d: i64| {
+    // Both `ax` and `gy` are at least 0 here: the products are unsigned.
+    let gy = gy.unsigned_abs();
+    let count = |ax: u32, d: u64| {
         let past =
-            |(c, s): (i32, i32)| i64::from(c) * i64::from(gy) - i64::from(s) * i64::from(ax) >= d;
+            |(c, s): (u32, u32)| u64::from(c) * u64::from(gy) >= u64::from(s) * u64::from(ax) + d;
         let [b10, b30, b50, b70] = BOUNDARIES;
         match (past(b30), past(b10)) {
             (true, _) if past(b50) => 3 + usize::from(past(b70)),
@@ -382,12 +384,12 @@ fn unsigned_bin(gx: i32, gy: i32) -> usize {
     };
     match gx {
         // [0, 90): the boundaries it is at or past.
-        1.. => count(gx, 0),
+        1.. => count(gx.unsigned_abs(), 0),
         // 90 degrees: past 10 to 90.
         0 => 5,
         // (90, 180): mirrored, `180 - angle` in (0, 90) is at or below the mirror images
         // of the boundaries from 110 degrees on that the angle is at or past.
-        _ => (BINS - count(gx.saturating_neg(), 1)) % BINS,
+        _ => (BINS - count(gx.unsigned_abs(), 1)) % BINS,
     }
 }
 

@@ -107,10 +107,8 @@ pub struct Filter<const G: usize> {
 fn scale(x: i64, by: i32) -> i32 {
     let bits = match by {
         0.. => x.saturating_mul(1 << by.min(32)),
-        _ => {
-            let s = by.unsigned_abs().min(62);
-            x.saturating_add(1 << (s - 1)) >> s
-        }
+        // `(x + 2^(s - 1)) >> s`, without the sum's overflow.
+        _ => ((x >> (by.unsigned_abs().min(62) - 1)) + 1) >> 1,
     };
     Q16::saturate(bits).to_bits()
 }
@@ -388,6 +386,30 @@ mod tests {
         sigma: Q16::ONE,
         lambda: 107_374, // 1e-4
     };
+
+    #[test]
+    fn scale_rounds_half_up_and_saturates() {
+        for (x, by, want) in [
+            (5, -1, 3),
+            (-5, -1, -2),
+            (6, -2, 2),
+            (-6, -2, -1),
+            (7, 0, 7),
+            (3, 4, 48),
+            (1 << 40, -8, i32::MAX),
+            (-(1 << 40), -8, i32::MIN),
+            (i64::MAX, -62, 2),
+            (i64::MAX, -32, i32::MAX),
+            (i64::MIN, -1, i32::MIN),
+            (i64::MIN, -62, -2),
+            (1 << 20, 20, i32::MAX),
+        ] {
+            let exact = (x as f64 * 2f64.powi(by) + 0.5).floor();
+            let clamped = exact.clamp(i32::MIN.into(), i32::MAX.into()) as i32;
+            assert_eq!(clamped, want, "{x} 2^{by}");
+            assert_eq!(scale(x, by), want, "{x} 2^{by}");
+        }
+    }
 
     /// A random grid of features in their ranges (grey in `[-0.5, 0.5]`, fHOG in
     /// `[0, 0.4]`), moved by `(dy, dx)` cells (wrapping).

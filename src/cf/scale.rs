@@ -430,7 +430,7 @@ impl<const S: usize> ScaleFilter<S> {
 
     /// Learns the samples at `rate`, the desired response peaked at sample `at`.
     fn learn_at(&mut self, at: usize, rate: Q16) {
-        let eta = i64::from(rate.clamp(Q16::ZERO, Q16::ONE).to_bits());
+        let eta = rate.clamp(Q16::ZERO, Q16::ONE).to_bits();
         let y = self.label(at);
         let mut den = [0i64; S];
         for (x, a) in self.samples.iter().zip(&mut self.num).take(self.features) {
@@ -440,7 +440,7 @@ impl<const S: usize> ScaleFilter<S> {
                 let half = 1 << (NUM_SHIFT - 1);
                 let re = (yr * xr + yi * xi + half) >> NUM_SHIFT;
                 let im = (yi * xr - yr * xi + half) >> NUM_SHIFT;
-                *a = Complex::new(blend(a.re.into(), re, eta), blend(a.im.into(), im, eta));
+                *a = Complex::new(blend(a.re, re, eta), blend(a.im, im, eta));
                 *b = b.saturating_add((xr * xr).saturating_add(xi * xi));
             }
         }
@@ -508,8 +508,10 @@ fn rescale(data: &mut [Complex], e: i32) {
 }
 
 /// `(old (1 - eta) + new eta)`, `eta` Q16 in `[0, 1]`, rounded, saturated to `i32`.
-fn blend(old: i64, new: i64, eta: i64) -> i32 {
-    let v = old * ((1 << 16) - eta) + new.clamp(i32::MIN.into(), i32::MAX.into()) * eta;
+#[inline]
+fn blend(old: i32, new: i64, eta: i32) -> i32 {
+    let new = new.clamp(i32::MIN.into(), i32::MAX.into());
+    let v = i64::from(old) * i64::from((1 << 16) - eta) + new * i64::from(eta);
     Q16::saturate((v + (1 << 15)) >> 16).to_bits()
 }
 

@@ -8,12 +8,16 @@ const DIGIT_MASK: u32 = (1 << DIGIT_BITS) - 1;
 
 /// `n / d` rounded down (0 for `d = 0`), exactly, with 32-bit divisions only: the
 /// Cortex-M4 divides 32 by 32 bits in one instruction, where a 64-bit division is a
-/// library call of about a hundred. The high word takes one division, the low word two
-/// 16-bit quotient digits, each estimated by one division and corrected (Knuth's
-/// algorithm D, as `divlu` in Hacker's Delight, 2nd ed., 9-3). Not inlined: its callers
-/// are themselves inlined into every histogram fill, and one copy serves them all.
+/// library call of about a hundred. A dividend below `2^32` takes that one division;
+/// above, the high word takes one, the low word two 16-bit quotient digits, each
+/// estimated by one division and corrected (Knuth's algorithm D, as `divlu` in Hacker's
+/// Delight, 2nd ed., 9-3). Not inlined: its callers are themselves inlined into every
+/// histogram fill, and one copy serves them all.
 #[inline(never)]
 pub fn div_u64_u32(n: u64, d: u32) -> u64 {
+    if let Ok(n) = u32::try_from(n) {
+        return u64::from(n.checked_div(d).unwrap_or(0));
+    }
     let (hi, lo) = ((n >> 32) as u32, n as u32);
     let (Some(q_hi), Some(r)) = (hi.checked_div(d), hi.checked_rem(d)) else {
         return 0;
@@ -76,6 +80,9 @@ mod tests {
             (0x7FFF_8000_0000_0000, 0x8000_FFFF),
             (0, 7),
             (5, 0),
+            (u32::MAX.into(), 0),
+            (u32::MAX.into(), 3),
+            (1 << 32, 3),
         ] {
             let want = if d == 0 { 0 } else { n / d as u64 };
             assert_eq!(div_u64_u32(n, d), want, "{n} / {d}");

@@ -106,12 +106,13 @@ impl Q16 {
     /// Saturates an `i64` raw value to the `i32` range.
     #[inline]
     pub const fn saturate(bits: i64) -> Self {
-        if bits > i32::MAX as i64 {
-            Self::MAX
-        } else if bits < i32::MIN as i64 {
+        let low = bits as i32;
+        if low as i64 == bits {
+            Self(low)
+        } else if bits < 0 {
             Self::MIN
         } else {
-            Self(bits as i32)
+            Self::MAX
         }
     }
 
@@ -294,6 +295,26 @@ mod tests {
         assert_eq!(Q16::from_f64(f64::NAN), Q16::ZERO);
         assert_eq!(Q16::from_ratio(1, 3).to_bits(), 21845);
         assert_eq!(Q16::from_ratio(5, 0), Q16::ZERO);
+    }
+
+    #[test]
+    fn saturate_clamps_an_i64_to_the_i32_range() {
+        let max = i64::from(i32::MAX);
+        let min = i64::from(i32::MIN);
+        for (bits, want) in [
+            (0, Q16::ZERO),
+            (max, Q16::MAX),
+            (max + 1, Q16::MAX),
+            (1 << 32, Q16::MAX),
+            (i64::MAX, Q16::MAX),
+            (min, Q16::MIN),
+            (min - 1, Q16::MIN),
+            (-(1 << 32), Q16::MIN),
+            (i64::MIN, Q16::MIN),
+            (-5, Q16::from_bits(-5)),
+        ] {
+            assert_eq!(Q16::saturate(bits), want, "{bits}");
+        }
     }
 
     #[test]
