@@ -283,10 +283,14 @@ def run_rbtrack(binary, seq, dump, layout, zero_based, tracker, seed, start, arg
 
 def run_rbtrack_in_process(frames, init, tracker, seed, particles):
     """0-based boxes and mean ms per frame (after the first) of rbtrack's Python module over
-    BGR frames from the 0-based box `init`."""
+    BGR frames from the 0-based box `init` (`seed` and `particles` for the particle filters
+    alone: the correlation-filter tracker has neither)."""
     import rbtrack
 
-    t = rbtrack.Tracker(variant=tracker, particles=particles, seed=seed)
+    if tracker == "cf":
+        t = rbtrack.Tracker(variant="cf")
+    else:
+        t = rbtrack.Tracker(variant=tracker, particles=particles, seed=seed)
     t.init(frames[0], init)
     boxes, times = [t.box], []
     for frame in frames[1:]:
@@ -338,7 +342,7 @@ def main():
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("--in-process", action="store_true",
                         help="run rbtrack through its Python module (pip install ./python); "
-                             "the correlation-filter trackers still run through the binary")
+                             "cf64, host only, still runs through the binary")
     parser.add_argument("--rbtrack-trackers", default="rbpf,pf,cf64,cf",
                         help="rbtrack's trackers, comma-separated (default rbpf,pf,cf64,cf)")
     args = parser.parse_args()
@@ -386,7 +390,7 @@ def main():
                 for start in starts:
                     per_start = []
                     for seed in seeds:
-                        if args.in_process and tracker in ("rbpf", "pf"):
+                        if args.in_process and tracker in ("cf", "rbpf", "pf"):
                             init = to_zero_based(start_box(first, start), zero_based)
                             boxes, ms = run_rbtrack_in_process(
                                 frames, init, tracker, seed, args.particles

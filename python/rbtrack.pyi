@@ -1,5 +1,5 @@
-"""rbtrack: a visual object tracker (colour particle filter and Rao-Blackwellised
-particle filter) with OpenCV's tracker interface.
+"""rbtrack: a visual object tracker (a correlation-filter tracker, a colour particle
+filter and a Rao-Blackwellised particle filter) with OpenCV's tracker interface.
 
     import cv2, rbtrack
     video = cv2.VideoCapture("clip.mp4")
@@ -14,7 +14,7 @@ A frame whose rows lie in one buffer with unit pixel and channel steps (any row 
 so a crop of a larger frame too) is read in place; any other is copied first.
 """
 
-from typing import Literal, Tuple
+from typing import Literal, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -23,7 +23,7 @@ Box = Tuple[float, float, float, float]
 """A box (x, y, w, h): top-left corner and size, px, 0-based (a box of whole pixels
 covers columns x..x+w-1)."""
 
-Variant = Literal["rbpf", "pf"]
+Variant = Literal["cf", "rbpf", "pf"]
 Format = Literal["bgr", "rgb", "gray", "grey"]
 Status = Literal["tracking", "uncertain", "lost"]
 
@@ -33,21 +33,25 @@ PARTICLES: list[int]
 class Tracker:
     """One target, tracked frame by frame.
 
-    variant: "rbpf" (Rao-Blackwellised particle filter: colour and boundary cues, size by
-        a Kalman filter; the default) or "pf" (colour particle filter: cheaper).
-    particles: one of PARTICLES (default 100).
-    seed: seed of the random draws (default 1): the same seed, frames and box give the
-        same boxes as `rbtrack track` does.
+    variant: "cf" (the correlation-filter tracker: a shape template and a colour model,
+        a scale filter; 16 x 16 cells, 8 scales, at its defaults; the default and the most
+        accurate), "rbpf" (Rao-Blackwellised particle filter: colour and boundary cues,
+        size by a Kalman filter) or "pf" (colour particle filter: cheaper).
+    particles: a particle filter's, one of PARTICLES (default 100); none for "cf".
+    seed: a particle filter's seed of the random draws (default 1); none for "cf", which
+        draws none. The same variant, seed, frames and box give the same boxes as
+        `rbtrack track` does.
     format: the frames' layout, "bgr" (default), "rgb" or "gray".
 
-    Raises ValueError for a variant, particle count or format it does not offer.
+    Raises ValueError for a variant, particle count or format it does not offer, and for
+    particles or a seed given to "cf".
     """
 
     def __init__(
         self,
-        variant: Variant = "rbpf",
-        particles: int = 100,
-        seed: int = 1,
+        variant: Variant = "cf",
+        particles: Optional[int] = None,
+        seed: Optional[int] = None,
         format: Format = "bgr",
     ) -> None: ...
     def init(self, frame: npt.NDArray[np.uint8], bbox: Box) -> None:
@@ -66,8 +70,10 @@ class Tracker:
         the frame.
         """
     def relocate(self, frame: npt.NDArray[np.uint8], bbox: Box) -> None:
-        """Moves the tracker onto the box `bbox` of `frame` (a detector's, say), keeping the
-        colour model it learnt. Raises as `init` does, and RuntimeError before it."""
+        """Moves a particle filter onto the box `bbox` of `frame` (a detector's, say),
+        keeping the colour model it learnt. Raises as `init` does, RuntimeError before it,
+        and NotImplementedError for "cf", whose models learn a new box afresh: call
+        `init`."""
     @property
     def box(self) -> Box:
         """The last box (x, y, w, h), px, exact (multiples of 1/65536): the initial box
@@ -80,21 +86,25 @@ class Tracker:
         """"tracking", "uncertain" (the tracker searches too) or "lost"."""
     @property
     def confidence(self) -> float:
-        """How well the estimate's window matches the target's colours, less the
-        particles' spread, 0..1: below 0.75 "uncertain", below 0.4 "lost"."""
+        """How sure the tracker is, 0..1. "cf": the peak of its merged template and colour
+        response, below 0.30 "uncertain", below 0.22 "lost" (and "lost" until 0.30 again).
+        "rbpf" and "pf": how well the estimate's window matches the target's colours, less
+        the particles' spread, below 0.75 "uncertain", below 0.4 "lost"."""
     @property
     def variant(self) -> Variant: ...
     @property
-    def particles(self) -> int: ...
+    def particles(self) -> Optional[int]:
+        """A particle filter's particles; None for "cf"."""
     @property
-    def seed(self) -> int: ...
+    def seed(self) -> Optional[int]:
+        """A particle filter's seed; None for "cf"."""
     @property
     def format(self) -> Format: ...
 
 def TrackerCreate(
-    variant: Variant = "rbpf",
-    particles: int = 100,
-    seed: int = 1,
+    variant: Variant = "cf",
+    particles: Optional[int] = None,
+    seed: Optional[int] = None,
     format: Format = "bgr",
 ) -> Tracker:
     """Tracker(...), named as OpenCV names its factories (cv2.TrackerCSRT_create)."""

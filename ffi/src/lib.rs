@@ -6,7 +6,8 @@
 //!   `librbtrack_ffi.a`: `cargo build --release -p rbtrack-ffi` for the host,
 //!   `--target thumbv7em-none-eabihf` (or any target the core builds for) for firmware.
 //! - [`Frame`]: a frame of a [`Format`] chosen at run time.
-//! - [`Track`]: a tracker of any size and binning behind one interface.
+//! - [`Track`]: a particle filter of any size and binning behind one interface;
+//!   [`CfTrack`]: the correlation-filter tracker of any grid and scales behind another.
 //!
 //! `no_std`, no allocation. On bare-metal targets the library's panic handler calls a
 //! function defined nowhere (`rbtrack_panic_path_is_reachable`), so a program links only
@@ -23,7 +24,7 @@ mod frame;
 mod track;
 
 pub use frame::{Format, Frame};
-pub use track::{ellipse_of_box, Track};
+pub use track::{ellipse_of_box, CfTrack, Track};
 
 /// The no-panic proof's panic handler: it calls a function defined nowhere, so a program
 /// in which a call to it survives optimisation does not link.

@@ -1,10 +1,11 @@
-//! [`Track`]: a tracker of any size and binning behind one object-safe interface, over
-//! frames of any [`Format`](crate::Format).
+//! [`Track`]: a particle filter of any size and binning behind one object-safe
+//! interface, and [`CfTrack`]: the correlation-filter tracker of any grid and scales; both
+//! over frames of any [`Format`](crate::Format).
 
 use crate::frame::{with_view, Frame};
 use rbtrack::image::Binning;
-use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Tracker};
-use rbtrack::{Ellipse, Q16};
+use rbtrack::tracker::{CameraMotion, CfConfig, CfTracker, Config, ConfigError, Estimate, Tracker};
+use rbtrack::{Ellipse, Rect, Q16};
 
 /// The tracker's life over [`Frame`]s: [`Tracker`]'s methods of the same names.
 pub trait Track {
@@ -64,6 +65,48 @@ impl<Bn: Binning, const N: usize, const B: usize> Track for Tracker<Bn, N, B> {
 
     fn estimate(&self) -> Estimate {
         Tracker::estimate(self)
+    }
+}
+
+/// The correlation-filter tracker's life over [`Frame`]s: [`CfTracker`]'s methods of the
+/// same names.
+pub trait CfTrack {
+    /// [`CfTracker::start`].
+    ///
+    /// # Errors
+    /// [`CfTracker::start`]'s.
+    fn start(&mut self, config: CfConfig, frame: &Frame<'_>, init: Rect)
+        -> Result<(), ConfigError>;
+    /// [`CfTracker::step`].
+    fn step(&mut self, frame: &Frame<'_>) -> Estimate;
+    /// [`CfTracker::camera_moved`].
+    fn camera_moved(&mut self, motion: &CameraMotion);
+    /// [`CfTracker::estimate`].
+    fn estimate(&self) -> Estimate;
+}
+
+impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTrack
+    for CfTracker<Bn, B, G, S>
+{
+    fn start(
+        &mut self,
+        config: CfConfig,
+        frame: &Frame<'_>,
+        init: Rect,
+    ) -> Result<(), ConfigError> {
+        with_view!(frame, v => CfTracker::start(self, config, v, init))
+    }
+
+    fn step(&mut self, frame: &Frame<'_>) -> Estimate {
+        with_view!(frame, v => CfTracker::step(self, v))
+    }
+
+    fn camera_moved(&mut self, motion: &CameraMotion) {
+        CfTracker::camera_moved(self, motion)
+    }
+
+    fn estimate(&self) -> Estimate {
+        *CfTracker::estimate(self)
     }
 }
 

@@ -3,11 +3,11 @@
 //! stubs and docs of the Python API are `rbtrack.pyi`.
 
 use numpy::PyReadonlyArrayDyn;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyNotImplementedError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use rbtrack::tracker::{Config, Estimate, Status, Variant};
-use rbtrack::RgbTracker;
-use rbtrack_ffi::{ellipse_of_box, Track};
+use rbtrack::tracker::{CfConfig, Config, Estimate, Status, Variant};
+use rbtrack::{Rect, RgbCfTracker, RgbTracker};
+use rbtrack_ffi::{ellipse_of_box, CfTrack, Track};
 
 mod frame;
 
@@ -16,14 +16,62 @@ use frame::{Order, Pixels};
 /// Particle counts offered.
 const PARTICLES: [usize; 4] = [25, 50, 100, 200];
 
+/// A particle filter's particles unless given.
+const DEFAULT_PARTICLES: usize = 100;
+
+/// A particle filter's seed unless given.
+const DEFAULT_SEED: u64 = 1;
+
+/// The core tracker behind a [`Tracker`]: the correlation-filter tracker at its defaults
+/// (`RgbCfTracker`: 16 x 16 cells, 8 scales, 512 RGB bins), or a particle filter.
+enum Engine {
+    Correlation(Box<dyn CfTrack + Send + Sync>),
+    Particles {
+        variant: Variant,
+        particles: usize,
+        seed: u64,
+        tracker: Box<dyn Track + Send + Sync>,
+    },
+}
+
+impl Engine {
+    /// Tracks one frame.
+    fn step(&mut self, frame: &rbtrack_ffi::Frame<'_>) -> Estimate {
+        match self {
+            Engine::Correlation(tracker) => tracker.step(frame),
+            Engine::Particles { tracker, .. } => tracker.step(frame),
+        }
+    }
+
+    /// The last estimate.
+    fn estimate(&self) -> Estimate {
+        match self {
+            Engine::Correlation(tracker) => tracker.estimate(),
+            Engine::Particles { tracker, .. } => tracker.estimate(),
+        }
+    }
+
+    /// `"cf"`, `"rbpf"` or `"pf"`.
+    fn name(&self) -> &'static str {
+        match self {
+            Engine::Correlation(_) => "cf",
+            Engine::Particles {
+                variant: Variant::Rbpf,
+                ..
+            } => "rbpf",
+            Engine::Particles {
+                variant: Variant::ColourPf,
+                ..
+            } => "pf",
+        }
+    }
+}
+
 /// A tracker with OpenCV's interface: `init(frame, box)`, then `ok, box = update(frame)`.
 #[pyclass(module = "rbtrack")]
 struct Tracker {
-    variant: Variant,
-    particles: usize,
-    seed: u64,
     order: Order,
-    tracker: Box<dyn Track + Send + Sync>,
+    engine: Engine,
     /// The last estimate, `None` before `init`.
     estimate: Option<Estimate>,
 }
@@ -74,23 +122,44 @@ impl Tracker {
 #[pymethods]
 impl Tracker {
     #[new]
-    #[pyo3(signature = (variant = "rbpf", particles = 100, seed = 1, format = "bgr"))]
-    fn new(variant: &str, particles: usize, seed: u64, format: &str) -> PyResult<Self> {
+    #[pyo3(signature = (variant = "cf", particles = None, seed = None, format = "bgr"))]
+    fn new(
+        variant: &str,
+        particles: Option<usize>,
+        seed: Option<u64>,
+        format: &str,
+    ) -> PyResult<Self> {
         let variant = match variant {
-            "rbpf" => Variant::Rbpf,
-            "pf" => Variant::ColourPf,
+            "cf" => None,
+            "rbpf" => Some(Variant::Rbpf),
+            "pf" => Some(Variant::ColourPf),
             _ => {
                 return Err(PyValueError::new_err(format!(
-                    "variant must be 'rbpf' or 'pf', not {variant:?}"
+                    "variant must be 'cf', 'rbpf' or 'pf', not {variant:?}"
                 )))
             }
         };
+        let engine = match variant {
+            None if particles.is_some() || seed.is_some() => {
+                return Err(PyValueError::new_err(
+                    "the correlation-filter tracker ('cf') has no particles and no seed: \
+                     they are the particle filters' ('rbpf', 'pf')",
+                ))
+            }
+            None => Engine::Correlation(Box::new(RgbCfTracker::unstarted())),
+            Some(variant) => {
+                let particles = particles.unwrap_or(DEFAULT_PARTICLES);
+                Engine::Particles {
+                    variant,
+                    particles,
+                    seed: seed.unwrap_or(DEFAULT_SEED),
+                    tracker: unstarted(particles)?,
+                }
+            }
+        };
         Ok(Self {
-            variant,
-            particles,
-            seed,
             order: Order::named(format)?,
-            tracker: unstarted(particles)?,
+            engine,
             estimate: None,
         })
     }
@@ -99,13 +168,25 @@ impl Tracker {
     fn init(&mut self, frame: &Bound<'_, PyAny>, bbox: (f64, f64, f64, f64)) -> PyResult<()> {
         let array = frame::borrow(frame)?;
         let pixels = Pixels::of(&array, self.order)?;
-        let mut config = Config::new(self.variant);
-        config.seed = self.seed;
+        let frame = pixels.frame()?;
         let init = ellipse(bbox)?;
-        self.tracker
-            .start(config, &pixels.frame()?, init)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        self.estimate = Some(self.tracker.estimate());
+        let started = match &mut self.engine {
+            Engine::Correlation(tracker) => {
+                tracker.start(CfConfig::default(), &frame, Rect::from(init))
+            }
+            Engine::Particles {
+                variant,
+                seed,
+                tracker,
+                ..
+            } => {
+                let mut config = Config::new(*variant);
+                config.seed = *seed;
+                tracker.start(config, &frame, init)
+            }
+        };
+        started.map_err(|e| PyValueError::new_err(e.to_string()))?;
+        self.estimate = Some(self.engine.estimate());
         Ok(())
     }
 
@@ -120,23 +201,30 @@ impl Tracker {
         let array: PyReadonlyArrayDyn<'_, u8> = frame::borrow(frame)?;
         let pixels = Pixels::of(&array, self.order)?;
         let frame = pixels.frame()?;
-        let tracker = &mut self.tracker;
-        let estimate = py.detach(|| tracker.step(&frame));
+        let engine = &mut self.engine;
+        let estimate = py.detach(|| engine.step(&frame));
         self.estimate = Some(estimate);
         Ok((estimate.status != Status::Lost, estimate.rect().px()))
     }
 
-    /// Moves the tracker onto the box `bbox` = `(x, y, w, h)` of `frame` (a detector's, say),
-    /// keeping the colour model it learnt.
+    /// Moves a particle filter onto the box `bbox` = `(x, y, w, h)` of `frame` (a
+    /// detector's, say), keeping the colour model it learnt; `NotImplementedError` for the
+    /// correlation-filter tracker, whose models learn a new box afresh (`init`).
     fn relocate(&mut self, frame: &Bound<'_, PyAny>, bbox: (f64, f64, f64, f64)) -> PyResult<()> {
         self.last()?;
+        let Engine::Particles { tracker, .. } = &mut self.engine else {
+            return Err(PyNotImplementedError::new_err(
+                "relocate keeps a particle filter's colour model; the correlation-filter \
+                 tracker ('cf') learns a new box afresh: call init",
+            ));
+        };
         let array = frame::borrow(frame)?;
         let pixels = Pixels::of(&array, self.order)?;
         let at = ellipse(bbox)?;
-        self.tracker
+        tracker
             .relocate(&pixels.frame()?, at)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        self.estimate = Some(self.tracker.estimate());
+        self.estimate = Some(tracker.estimate());
         Ok(())
     }
 
@@ -166,25 +254,29 @@ impl Tracker {
         Ok(self.last()?.confidence.to_f64())
     }
 
-    /// `"rbpf"` or `"pf"`.
+    /// `"cf"`, `"rbpf"` or `"pf"`.
     #[getter]
     fn variant(&self) -> &'static str {
-        match self.variant {
-            Variant::Rbpf => "rbpf",
-            Variant::ColourPf => "pf",
+        self.engine.name()
+    }
+
+    /// A particle filter's particles; `None` for the correlation-filter tracker.
+    #[getter]
+    fn particles(&self) -> Option<usize> {
+        match self.engine {
+            Engine::Correlation(_) => None,
+            Engine::Particles { particles, .. } => Some(particles),
         }
     }
 
-    /// Particles.
+    /// A particle filter's seed of the random draws; `None` for the correlation-filter
+    /// tracker (it draws none).
     #[getter]
-    fn particles(&self) -> usize {
-        self.particles
-    }
-
-    /// Seed of the random draws.
-    #[getter]
-    fn seed(&self) -> u64 {
-        self.seed
+    fn seed(&self) -> Option<u64> {
+        match self.engine {
+            Engine::Correlation(_) => None,
+            Engine::Particles { seed, .. } => Some(seed),
+        }
     }
 
     /// `"bgr"`, `"rgb"` or `"gray"`.
@@ -194,20 +286,28 @@ impl Tracker {
     }
 
     fn __repr__(&self) -> String {
-        format!(
-            "rbtrack.Tracker(variant={:?}, particles={}, seed={}, format={:?})",
-            self.variant(),
-            self.particles,
-            self.seed,
-            self.order.name()
-        )
+        let format = self.order.name();
+        match self.engine {
+            Engine::Correlation(_) => format!("rbtrack.Tracker(variant=\"cf\", format={format:?})"),
+            Engine::Particles {
+                particles, seed, ..
+            } => format!(
+                "rbtrack.Tracker(variant={:?}, particles={particles}, seed={seed}, format={format:?})",
+                self.engine.name(),
+            ),
+        }
     }
 }
 
 /// `Tracker(...)`, named as OpenCV names its factories (`cv2.TrackerCSRT_create`).
 #[pyfunction]
-#[pyo3(name = "TrackerCreate", signature = (variant = "rbpf", particles = 100, seed = 1, format = "bgr"))]
-fn tracker_create(variant: &str, particles: usize, seed: u64, format: &str) -> PyResult<Tracker> {
+#[pyo3(name = "TrackerCreate", signature = (variant = "cf", particles = None, seed = None, format = "bgr"))]
+fn tracker_create(
+    variant: &str,
+    particles: Option<usize>,
+    seed: Option<u64>,
+    format: &str,
+) -> PyResult<Tracker> {
     Tracker::new(variant, particles, seed, format)
 }
 

@@ -76,7 +76,7 @@ def python_boxes(tracker, frames):
     return [",".join(f"{v:.2f}" for v in b) for b in boxes]
 
 
-@pytest.mark.parametrize("variant", ["rbpf", "pf"])
+@pytest.mark.parametrize("variant", ["cf", "rbpf", "pf"])
 def test_boxes_equal_the_host_tools(crossing, variant, tmp_path):
     binary, dump, (width, height), frames = crossing
     want = track_boxes(binary, dump, f"{width}x{height}:rgb888", variant, tmp_path)
@@ -86,17 +86,18 @@ def test_boxes_equal_the_host_tools(crossing, variant, tmp_path):
     assert python_boxes(rbtrack.TrackerCreate(variant=variant, format="rgb"), frames) == want
 
 
-def test_grey_frames_equal_the_host_tools(crossing, tmp_path):
+@pytest.mark.parametrize("variant", ["cf", "rbpf"])
+def test_grey_frames_equal_the_host_tools(crossing, variant, tmp_path):
     binary, _, (width, height), frames = crossing
     grey = (frames.astype(np.uint32) @ np.array([77, 150, 29], np.uint32) + 128 >> 8).astype(np.uint8)
     dump = tmp_path / "grey.raw"
     grey.tofile(dump)
-    want = track_boxes(binary, dump, f"{width}x{height}:gray8", "rbpf", tmp_path)
-    assert python_boxes(rbtrack.Tracker(format="gray"), grey) == want
-    assert python_boxes(rbtrack.Tracker(format="gray"), grey[..., None]) == want
+    want = track_boxes(binary, dump, f"{width}x{height}:gray8", variant, tmp_path)
+    assert python_boxes(rbtrack.Tracker(variant=variant, format="gray"), grey) == want
+    assert python_boxes(rbtrack.Tracker(variant=variant, format="gray"), grey[..., None]) == want
 
 
-@pytest.mark.parametrize("variant", ["rbpf", "pf"])
+@pytest.mark.parametrize("variant", ["cf", "rbpf", "pf"])
 def test_compare_opencv_in_process_gives_the_dump_paths_boxes(crossing, variant, tmp_path):
     """benches/compare_opencv.py --in-process tracks with this module; its boxes are the
     ones its default path reads from `rbtrack track` on the dump."""
@@ -143,22 +144,40 @@ def test_a_crop_is_read_in_place_and_tracked_as_its_copy():
         assert a.box == b.box
 
 
-def test_ok_is_false_while_lost():
-    tracker = rbtrack.Tracker(variant="pf", particles=50)
+@pytest.mark.parametrize("make, sure, lost", [(dict(), 0.30, 0.22), (dict(variant="pf", particles=50), 0.75, 0.4)])
+def test_ok_is_false_while_lost(make, sure, lost):
+    tracker = rbtrack.Tracker(**make)
     tracker.init(square(20), (20, 16, 16, 16))
     assert tracker.update(square(21))[0] is True
-    assert tracker.status == "tracking" and tracker.confidence > 0.75
+    assert tracker.status == "tracking" and tracker.confidence > sure
     empty = np.full((48, 64, 3), 90, np.uint8)
     seen = [tracker.update(empty)[0] for _ in range(5)]
-    assert tracker.status == "lost" and tracker.confidence < 0.4
+    assert tracker.status == "lost" and tracker.confidence < lost
     assert seen[-1] is False
+
+
+def test_the_defaults_and_what_each_variant_takes():
+    cf = rbtrack.Tracker()
+    assert (cf.variant, cf.particles, cf.seed, cf.format) == ("cf", None, None, "bgr")
+    assert repr(cf) == 'rbtrack.Tracker(variant="cf", format="bgr")'
+    pf = rbtrack.TrackerCreate(variant="pf")
+    assert (pf.variant, pf.particles, pf.seed) == ("pf", 100, 1)
+    assert repr(pf) == 'rbtrack.Tracker(variant="pf", particles=100, seed=1, format="bgr")'
+    cf.init(square(20), (20, 16, 16, 16))
+    with pytest.raises(NotImplementedError, match="call init"):
+        cf.relocate(square(22), (22, 16, 16, 16))
+    pf.init(square(20), (20, 16, 16, 16))
+    pf.relocate(square(22), (22, 16, 16, 16))
+    assert pf.box == (22.0, 16.0, 16.0, 16.0)
 
 
 @pytest.mark.parametrize(
     "make, frame, box, error, message",
     [
-        (dict(variant="csrt"), None, None, ValueError, "variant must be 'rbpf' or 'pf'"),
-        (dict(particles=30), None, None, ValueError, "particles must be one of [25, 50, 100, 200]"),
+        (dict(variant="csrt"), None, None, ValueError, "variant must be 'cf', 'rbpf' or 'pf'"),
+        (dict(variant="rbpf", particles=30), None, None, ValueError, "particles must be one of [25, 50, 100, 200]"),
+        (dict(particles=100), None, None, ValueError, "('cf') has no particles and no seed"),
+        (dict(seed=2), None, None, ValueError, "('cf') has no particles and no seed"),
         (dict(format="yuv"), None, None, ValueError, "format must be 'bgr', 'rgb' or 'gray'"),
         ({}, square(20).astype(np.float32), (20, 16, 16, 16), TypeError, "must be a uint8 array, not float32"),
         ({}, [[1, 2], [3, 4]], (20, 16, 16, 16), TypeError, "must be a NumPy uint8 array, not list"),
@@ -221,7 +240,7 @@ def test_update_releases_the_gil():
     them, so no GIL hand-over but their own), another thread keeps running Python code;
     while a C loop of similar length that keeps the GIL runs, it cannot."""
     frame = np.random.default_rng(1).integers(0, 256, (480, 640, 3), np.uint8)
-    tracker = rbtrack.Tracker(particles=200)
+    tracker = rbtrack.Tracker(variant="rbpf", particles=200)
     tracker.init(frame, (200, 150, 120, 160))
     during_updates, took = ticks_in_the_middle(lambda: list(map(tracker.update, [frame] * 60)))
     assert during_updates > 0, f"no Python code ran in {took * 1e3:.1f} ms of updates"
