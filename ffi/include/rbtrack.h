@@ -84,6 +84,18 @@
 #define RBT_TRACKER_LUMA_100_SIZE 32080
 #endif
 
+#if defined(RBT_POINTER_32)
+// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
+// scales, 512 RGB bins (8x8x8) (32-bit targets).
+#define RBT_TRACKER_CF_SIZE 89048
+#endif
+
+#if defined(RBT_POINTER_64)
+// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
+// scales, 512 RGB bins (8x8x8) (64-bit targets).
+#define RBT_TRACKER_CF_SIZE 89120
+#endif
+
 // Alignment of every tracker's memory, bytes.
 #define RBT_TRACKER_ALIGN 8
 
@@ -143,6 +155,10 @@ typedef enum {
   RBT_ERR_PANTILT_LIMIT = 23,
   // A pan/tilt `min` is above `max`, or `home` is outside them.
   RBT_ERR_PANTILT_RANGE = 24,
+  // The call is for the other kind of tracker: a particle filter's (`rbt_start`,
+  // `rbt_reset`, `rbt_relocate`) on the correlation-filter tracker, or `rbt_cf_start` on
+  // a particle filter.
+  RBT_ERR_TRACKER_KIND = 25,
 } rbt_error;
 
 // A pixel format (`rbt_image.format`).
@@ -313,6 +329,62 @@ typedef struct {
   uint8_t learn_scale_per_row;
 } rbt_config;
 
+// The correlation-filter tracker's configuration: the core's
+// `rbtrack::tracker::CfConfig`, field for field, its scale filter's settings flattened
+// (`scale_*`; the core's documentation gives each range). `rbt_cf_config_default` fills in
+// the defaults; flags are 0 or not 0.
+typedef struct {
+  // Context around the target each way, times the mean of its width and height,
+  // Q16.16 in (0, 4].
+  rbt_q16 padding;
+  // Cell side, px of the resampled region: 2, 4, 6 or 8.
+  uint32_t cell;
+  // Width of the translation filter's desired response, share of the target's
+  // `sqrt(w h)`, Q16.16 above 0.
+  rbt_q16 sigma;
+  // Regulariser of the translation filter, units of `2^-30` of a squared feature.
+  uint32_t lambda;
+  // Learning rate of the translation filter, Q16.16 in [0, 1].
+  rbt_q16 cf_rate;
+  // Learning rate of the colour histograms, Q16.16 in [0, 1].
+  rbt_q16 colour_rate;
+  // The object's histogram is taken this share of the target's mean side inside its
+  // box, Q16.16 in [0, 1).
+  rbt_q16 inner_padding;
+  // Weight of the colour response in the merged response, Q16.16 in [0, 1].
+  rbt_q16 merge;
+  // Ratio between neighbouring scales, Q16.16 in (1, 1.5].
+  rbt_q16 scale_step;
+  // Width of the scale filter's desired response, times `sqrt(S)`, scales, Q16.16.
+  rbt_q16 scale_sigma;
+  // Regulariser of the scale filter, units of `2^-32` of a squared feature.
+  uint32_t scale_lambda;
+  // Largest area of the scale filter's model, px^2.
+  uint32_t scale_area;
+  // Cell side of the scale filter's samples, px.
+  uint32_t scale_cell;
+  // Read the scale between samples (flag).
+  uint8_t scale_interpolate;
+  // Learning rate of the scale filter, Q16.16 in [0, 1].
+  rbt_q16 scale_rate;
+  // Largest change of size in a frame, a factor, Q16.16 at least 1.
+  rbt_q16 max_scale_change;
+  // Learn only from frames whose confidence is at least this, Q16.16.
+  rbt_q16 learn_above;
+  // Status uncertain below this confidence, Q16.16 in [0, 1].
+  rbt_q16 uncertain_below;
+  // Status lost below this confidence (and until `uncertain_below` again), Q16.16.
+  rbt_q16 lost_below;
+  // Regions searched besides the usual one each frame while lost, 0..=8.
+  uint32_t redetect;
+  // A searched region takes over when its merged peak is at least this, Q16.16...
+  rbt_q16 redetect_above;
+  // ...and its colour score at least this, Q16.16.
+  rbt_q16 redetect_colour;
+  // While lost, search where the velocity it had when lost puts the target (flag).
+  uint8_t coast;
+} rbt_cf_config;
+
 // A camera frame, borrowed for the call.
 typedef struct {
   // The pixels, row after row; `size` bytes readable.
@@ -450,6 +522,13 @@ const char *rbt_error_name(int32_t code);
 // `config` is null or points to a writable `rbt_config`.
 rbt_error rbt_config_default(uint32_t variant, rbt_config *config);
 
+// Writes the correlation-filter tracker's defaults to `config`: the core's
+// `CfConfig::default()`, the configuration its accuracy figures measure.
+//
+// # Safety
+// `config` is null or points to a writable `rbt_cf_config`.
+rbt_error rbt_cf_config_default(rbt_cf_config *config);
+
 // Checks `config` as `rbt_start` would; on a refusal, writes the reason (for
 // `RBT_ERR_CONFIG_RANGE`, the field's name) to `message` as a NUL-terminated string of
 // at most `size` bytes, if `message` is not null.
@@ -458,6 +537,14 @@ rbt_error rbt_config_default(uint32_t variant, rbt_config *config);
 // `config` is null or points to an `rbt_config`; `message` is null or points to `size`
 // writable bytes.
 rbt_error rbt_config_check(const rbt_config *config, char *message, size_t size);
+
+// Checks `config` as `rbt_cf_start` would; on a refusal, writes the reason (for
+// `RBT_ERR_CONFIG_RANGE`, the field's name) to `message` as `rbt_config_check` does.
+//
+// # Safety
+// `config` is null or points to an `rbt_cf_config`; `message` is null or points to `size`
+// writable bytes.
+rbt_error rbt_cf_config_check(const rbt_cf_config *config, char *message, size_t size);
 
 // Places an unstarted tracker of 25 particles on 512 RGB bins (8x8x8) in `memory`
 // (`RBT_TRACKER_RGB_25_SIZE` bytes, aligned to `RBT_TRACKER_ALIGN`) and writes its handle
@@ -524,8 +611,32 @@ rbt_error rbt_tracker_place_yuv_100(void *memory, size_t size, rbt_tracker **tra
 // on; `tracker` is null or points to a writable pointer.
 rbt_error rbt_tracker_place_luma_100(void *memory, size_t size, rbt_tracker **tracker);
 
+// Places the unstarted correlation-filter tracker at its defaults (16 x 16 cells, 8
+// scales, 512 RGB bins (8x8x8): the core's `RgbCfTracker`) in `memory`
+// (`RBT_TRACKER_CF_SIZE` bytes, aligned to `RBT_TRACKER_ALIGN`) and writes its handle to
+// `tracker`; `rbt_cf_start` starts it.
+//
+// # Safety
+// `memory` is null or points to `size` writable bytes that the tracker owns from then
+// on; `tracker` is null or points to a writable pointer.
+rbt_error rbt_tracker_place_cf(void *memory, size_t size, rbt_tracker **tracker);
+
+// Starts the correlation-filter tracker on the box `box` of `frame` with `config`, in
+// place, whatever it did before (the core's `CfTracker::start`: its models learn the box
+// afresh); `RBT_ERR_TRACKER_KIND` for a particle filter.
+//
+// # Safety
+// `tracker` is null or a handle from `rbt_tracker_place_*` whose memory is still the
+// tracker's and used by no other call meanwhile; `config`, `frame` and `box` are null or
+// point to their types, and `frame->data` to `frame->size` readable bytes.
+rbt_error rbt_cf_start(rbt_tracker *tracker,
+                       const rbt_cf_config *config,
+                       const rbt_image *frame,
+                       const rbt_rect *box);
+
 // Starts the tracker on the box `box` of `frame` with `config`, in place, whatever it did
-// before (the core's `Tracker::start`).
+// before (the core's `Tracker::start`); `RBT_ERR_TRACKER_KIND` for the correlation-filter
+// tracker, which `rbt_cf_start` starts.
 //
 // # Safety
 // `tracker` is null or a handle from `rbt_tracker_place_*` whose memory is still the
@@ -537,14 +648,16 @@ rbt_error rbt_start(rbt_tracker *tracker,
                     const rbt_rect *box);
 
 // Re-initialises the tracker on the box `box` of `frame`: a new model, the
-// configuration kept (the core's `Tracker::reset`).
+// configuration kept (the core's `Tracker::reset`); `RBT_ERR_TRACKER_KIND` for the
+// correlation-filter tracker (`rbt_cf_start` starts it again).
 //
 // # Safety
 // As `rbt_start`.
 rbt_error rbt_reset(rbt_tracker *tracker, const rbt_image *frame, const rbt_rect *box);
 
 // Moves the tracker onto the box `box` of `frame` (say a detector's), keeping the model
-// it learnt (the core's `Tracker::relocate`).
+// it learnt (the core's `Tracker::relocate`); `RBT_ERR_TRACKER_KIND` for the
+// correlation-filter tracker, whose models learn a new box afresh (`rbt_cf_start`).
 //
 // # Safety
 // As `rbt_start`.

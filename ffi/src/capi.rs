@@ -9,18 +9,20 @@
 #![allow(unsafe_code, non_camel_case_types)]
 
 use crate::frame::{Format, Frame};
-use crate::track::Track;
+use crate::track::{CfTrack, Track};
 use core::ffi::{c_char, c_void, CStr};
 use core::fmt::Write;
 use core::ptr::{self, NonNull};
+use rbtrack::cf::scale::ScaleSettings;
 use rbtrack::image::ImageError;
 use rbtrack::pantilt::{AxisConfig, Command, PanTilt, PanTiltConfig, PanTiltError};
 use rbtrack::tracker::{
-    CameraMotion, Config, ConfigError, CueMix, Estimate, Readout, Scheme, SizeMeasurement, Status,
-    Variant,
+    CameraMotion, CfConfig, CfTracker, Config, ConfigError, CueMix, Estimate, Readout, Scheme,
+    SizeMeasurement, Status, Variant,
 };
 use rbtrack::{
-    Binning, Ellipse, LumaTracker, Rect, Rgb256Tracker, RgbTracker, Tracker, YuvTracker, Q16,
+    Binning, Ellipse, LumaTracker, Rect, Rgb256Tracker, RgbCfTracker, RgbTracker, Tracker,
+    YuvTracker, Q16,
 };
 
 /// A Q16.16 fixed-point number: the value times 65536 (`RBT_Q16_ONE` is 1).
@@ -84,13 +86,17 @@ pub enum rbt_error {
     RBT_ERR_PANTILT_LIMIT = 23,
     /// A pan/tilt `min` is above `max`, or `home` is outside them.
     RBT_ERR_PANTILT_RANGE = 24,
+    /// The call is for the other kind of tracker: a particle filter's (`rbt_start`,
+    /// `rbt_reset`, `rbt_relocate`) on the correlation-filter tracker, or `rbt_cf_start` on
+    /// a particle filter.
+    RBT_ERR_TRACKER_KIND = 25,
 }
 
 use rbt_error::*;
 
 impl rbt_error {
     /// Every code, in order.
-    const ALL: [rbt_error; 25] = [
+    const ALL: [rbt_error; 26] = [
         RBT_OK,
         RBT_ERR_NULL,
         RBT_ERR_MEMORY_SIZE,
@@ -116,6 +122,7 @@ impl rbt_error {
         RBT_ERR_PANTILT_GAIN,
         RBT_ERR_PANTILT_LIMIT,
         RBT_ERR_PANTILT_RANGE,
+        RBT_ERR_TRACKER_KIND,
     ];
 
     /// The code's name and meaning, as `rbt_error_name` returns it.
@@ -170,6 +177,7 @@ impl rbt_error {
             RBT_ERR_PANTILT_RANGE => {
                 c"RBT_ERR_PANTILT_RANGE: min must be <= max, with home between them"
             }
+            RBT_ERR_TRACKER_KIND => c"RBT_ERR_TRACKER_KIND: a call for the other kind of tracker",
         }
     }
 }
@@ -747,6 +755,163 @@ pub unsafe extern "C" fn rbt_config_default(variant: u32, config: *mut rbt_confi
     unsafe { put(config, rbt_config::from(&Config::new(variant))) }
 }
 
+/// The correlation-filter tracker's configuration: the core's
+/// `rbtrack::tracker::CfConfig`, field for field, its scale filter's settings flattened
+/// (`scale_*`; the core's documentation gives each range). `rbt_cf_config_default` fills in
+/// the defaults; flags are 0 or not 0.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct rbt_cf_config {
+    /// Context around the target each way, times the mean of its width and height,
+    /// Q16.16 in (0, 4].
+    pub padding: rbt_q16,
+    /// Cell side, px of the resampled region: 2, 4, 6 or 8.
+    pub cell: u32,
+    /// Width of the translation filter's desired response, share of the target's
+    /// `sqrt(w h)`, Q16.16 above 0.
+    pub sigma: rbt_q16,
+    /// Regulariser of the translation filter, units of `2^-30` of a squared feature.
+    pub lambda: u32,
+    /// Learning rate of the translation filter, Q16.16 in [0, 1].
+    pub cf_rate: rbt_q16,
+    /// Learning rate of the colour histograms, Q16.16 in [0, 1].
+    pub colour_rate: rbt_q16,
+    /// The object's histogram is taken this share of the target's mean side inside its
+    /// box, Q16.16 in [0, 1).
+    pub inner_padding: rbt_q16,
+    /// Weight of the colour response in the merged response, Q16.16 in [0, 1].
+    pub merge: rbt_q16,
+    /// Ratio between neighbouring scales, Q16.16 in (1, 1.5].
+    pub scale_step: rbt_q16,
+    /// Width of the scale filter's desired response, times `sqrt(S)`, scales, Q16.16.
+    pub scale_sigma: rbt_q16,
+    /// Regulariser of the scale filter, units of `2^-32` of a squared feature.
+    pub scale_lambda: u32,
+    /// Largest area of the scale filter's model, px^2.
+    pub scale_area: u32,
+    /// Cell side of the scale filter's samples, px.
+    pub scale_cell: u32,
+    /// Read the scale between samples (flag).
+    pub scale_interpolate: u8,
+    /// Learning rate of the scale filter, Q16.16 in [0, 1].
+    pub scale_rate: rbt_q16,
+    /// Largest change of size in a frame, a factor, Q16.16 at least 1.
+    pub max_scale_change: rbt_q16,
+    /// Learn only from frames whose confidence is at least this, Q16.16.
+    pub learn_above: rbt_q16,
+    /// Status uncertain below this confidence, Q16.16 in [0, 1].
+    pub uncertain_below: rbt_q16,
+    /// Status lost below this confidence (and until `uncertain_below` again), Q16.16.
+    pub lost_below: rbt_q16,
+    /// Regions searched besides the usual one each frame while lost, 0..=8.
+    pub redetect: u32,
+    /// A searched region takes over when its merged peak is at least this, Q16.16...
+    pub redetect_above: rbt_q16,
+    /// ...and its colour score at least this, Q16.16.
+    pub redetect_colour: rbt_q16,
+    /// While lost, search where the velocity it had when lost puts the target (flag).
+    pub coast: u8,
+}
+
+/// Calls `$apply!(field, ...)` with every Q16.16 field `rbt_cf_config` and `CfConfig`
+/// share.
+macro_rules! cf_q16_fields {
+    ($apply:ident) => {
+        $apply!(
+            padding,
+            sigma,
+            cf_rate,
+            colour_rate,
+            inner_padding,
+            merge,
+            scale_rate,
+            max_scale_change,
+            learn_above,
+            uncertain_below,
+            lost_below,
+            redetect_above,
+            redetect_colour
+        )
+    };
+}
+
+impl From<&CfConfig> for rbt_cf_config {
+    fn from(c: &CfConfig) -> Self {
+        let count = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        let mut out = Self {
+            cell: count(c.cell),
+            lambda: c.lambda,
+            scale_step: c.scale.step.to_bits(),
+            scale_sigma: c.scale.sigma.to_bits(),
+            scale_lambda: c.scale.lambda,
+            scale_area: c.scale.area,
+            scale_cell: count(c.scale.cell),
+            scale_interpolate: c.scale.interpolate.into(),
+            redetect: count(c.redetect),
+            coast: c.coast.into(),
+            ..Self::default()
+        };
+        macro_rules! copy {
+            ($($field:ident),*) => { $(out.$field = c.$field.to_bits();)* };
+        }
+        cf_q16_fields!(copy);
+        out
+    }
+}
+
+impl rbt_cf_config {
+    /// The core's configuration of these fields, checked.
+    fn config(&self) -> Result<CfConfig, ConfigError> {
+        let q = Q16::from_bits;
+        let count = |n: u32| usize::try_from(n).unwrap_or(usize::MAX);
+        let mut c = CfConfig {
+            cell: count(self.cell),
+            lambda: self.lambda,
+            scale: ScaleSettings {
+                step: q(self.scale_step),
+                sigma: q(self.scale_sigma),
+                lambda: self.scale_lambda,
+                area: self.scale_area,
+                cell: count(self.scale_cell),
+                interpolate: self.scale_interpolate != 0,
+            },
+            redetect: count(self.redetect),
+            coast: self.coast != 0,
+            ..CfConfig::default()
+        };
+        macro_rules! copy {
+            ($($field:ident),*) => { $(c.$field = q(self.$field);)* };
+        }
+        cf_q16_fields!(copy);
+        c.validate()?;
+        Ok(c)
+    }
+}
+
+/// The correlation-filter configuration at `config`.
+///
+/// # Safety
+/// `config` is null or points to an `rbt_cf_config`.
+unsafe fn cf_config(
+    config: *const rbt_cf_config,
+) -> Result<Result<CfConfig, ConfigError>, rbt_error> {
+    // SAFETY: null (refused) or an `rbt_cf_config` (the caller's promise); every bit
+    // pattern of its integer fields is a value.
+    let config = unsafe { config.as_ref() }.ok_or(RBT_ERR_NULL)?;
+    Ok(config.config())
+}
+
+/// Writes the correlation-filter tracker's defaults to `config`: the core's
+/// `CfConfig::default()`, the configuration its accuracy figures measure.
+///
+/// # Safety
+/// `config` is null or points to a writable `rbt_cf_config`.
+#[no_mangle]
+pub unsafe extern "C" fn rbt_cf_config_default(config: *mut rbt_cf_config) -> rbt_error {
+    // SAFETY: as this function's contract.
+    unsafe { put(config, rbt_cf_config::from(&CfConfig::default())) }
+}
+
 /// A `core::fmt::Write` into a C buffer: as much as fits, then NUL-terminated.
 struct CBuffer<'a> {
     bytes: &'a mut [u8],
@@ -789,6 +954,44 @@ pub unsafe extern "C" fn rbt_config_check(
     let Err(bad) = checked else {
         return RBT_OK;
     };
+    // SAFETY: as this function's contract.
+    unsafe { refuse(bad, message, size) }
+}
+
+/// Checks `config` as `rbt_cf_start` would; on a refusal, writes the reason (for
+/// `RBT_ERR_CONFIG_RANGE`, the field's name) to `message` as `rbt_config_check` does.
+///
+/// # Safety
+/// `config` is null or points to an `rbt_cf_config`; `message` is null or points to `size`
+/// writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn rbt_cf_config_check(
+    config: *const rbt_cf_config,
+    message: *mut c_char,
+    size: usize,
+) -> rbt_error {
+    // SAFETY: as this function's contract.
+    let checked = match unsafe { cf_config(config) } {
+        Ok(checked) => checked,
+        Err(e) => return e,
+    };
+    let Err(bad) = checked else {
+        return RBT_OK;
+    };
+    // SAFETY: as this function's contract.
+    unsafe { refuse(bad, message, size) }
+}
+
+/// Writes why `bad` was refused to `message` as a NUL-terminated string of at most `size`
+/// bytes, if `message` is not null, and returns its code.
+///
+/// # Safety
+/// `message` is null or points to `size` writable bytes.
+unsafe fn refuse<E: core::fmt::Display + Into<rbt_error>>(
+    bad: E,
+    message: *mut c_char,
+    size: usize,
+) -> rbt_error {
     if !message.is_null() && size > 0 {
         // SAFETY: `message` is non-null and points to `size` writable bytes (the caller's
         // promise).
@@ -812,7 +1015,23 @@ const MAGIC: u32 = u32::from_le_bytes(*b"RBT1");
 #[repr(C)]
 struct Header {
     magic: u32,
-    open: unsafe fn(NonNull<Header>) -> NonNull<dyn Track>,
+    open: unsafe fn(NonNull<Header>) -> Placed,
+}
+
+/// A placed tracker of either kind, as its header reaches it.
+enum Placed {
+    /// A particle filter.
+    Particles(NonNull<dyn Track>),
+    /// The correlation-filter tracker.
+    Correlation(NonNull<dyn CfTrack>),
+}
+
+/// A placed tracker of either kind, borrowed.
+enum Engine<'a> {
+    /// A particle filter.
+    Particles(&'a mut dyn Track),
+    /// The correlation-filter tracker.
+    Correlation(&'a mut dyn CfTrack),
 }
 
 /// A placed tracker: the header, then the tracker.
@@ -826,21 +1045,43 @@ struct Slot<T> {
 ///
 /// # Safety
 /// `header` starts a live `Slot<T>`.
-unsafe fn open<T: Track + 'static>(header: NonNull<Header>) -> NonNull<dyn Track> {
+unsafe fn tracker_of<T>(header: NonNull<Header>) -> NonNull<T> {
     let slot = header.cast::<Slot<T>>().as_ptr();
     // SAFETY: `slot` is a live `Slot<T>` (the caller's promise), so the field's address is
     // in bounds and non-null.
-    unsafe { NonNull::new_unchecked(ptr::addr_of_mut!((*slot).tracker) as *mut dyn Track) }
+    unsafe { NonNull::new_unchecked(ptr::addr_of_mut!((*slot).tracker)) }
 }
 
-/// A tracker that can be placed: its unstarted value is a constant.
-trait Placeable: Track + Sized + 'static {
-    /// The unstarted tracker (`Tracker::unstarted`: all zero bits).
+/// A tracker that can be placed: its unstarted value is a constant, and its header
+/// reaches it as its kind.
+trait Placeable: Sized + 'static {
+    /// The unstarted tracker (`unstarted()`: all zero bits).
     const UNSTARTED: Self;
+    /// The tracker of the slot that `header` starts.
+    ///
+    /// # Safety
+    /// `header` starts a live `Slot<Self>`.
+    unsafe fn open(header: NonNull<Header>) -> Placed;
 }
 
 impl<Bn: Binning + 'static, const N: usize, const B: usize> Placeable for Tracker<Bn, N, B> {
     const UNSTARTED: Self = Self::unstarted();
+
+    unsafe fn open(header: NonNull<Header>) -> Placed {
+        // SAFETY: as this function's contract.
+        Placed::Particles(unsafe { tracker_of::<Self>(header) })
+    }
+}
+
+impl<Bn: Binning + 'static, const B: usize, const G: usize, const S: usize> Placeable
+    for CfTracker<Bn, B, G, S>
+{
+    const UNSTARTED: Self = Self::unstarted();
+
+    unsafe fn open(header: NonNull<Header>) -> Placed {
+        // SAFETY: as this function's contract.
+        Placed::Correlation(unsafe { tracker_of::<Self>(header) })
+    }
 }
 
 /// Places an unstarted `T` at `memory` and writes its handle to `out`.
@@ -869,7 +1110,7 @@ unsafe fn place<T: Placeable>(
         slot.write(Slot {
             header: Header {
                 magic: MAGIC,
-                open: open::<T>,
+                open: T::open,
             },
             tracker: T::UNSTARTED,
         });
@@ -884,7 +1125,7 @@ unsafe fn place<T: Placeable>(
 /// `handle` is null or a handle from an `rbt_tracker_place_*` function whose memory is
 /// still the tracker's, not used elsewhere during the borrow `'a`; or other memory whose
 /// first 4 bytes are readable and not `b"RBT1"`.
-unsafe fn tracker<'a>(handle: *mut rbt_tracker) -> Result<&'a mut dyn Track, rbt_error> {
+unsafe fn tracker<'a>(handle: *mut rbt_tracker) -> Result<Engine<'a>, rbt_error> {
     let header = NonNull::new(handle.cast::<Header>()).ok_or(RBT_ERR_NULL)?;
     if !header.as_ptr().is_aligned() {
         return Err(RBT_ERR_NOT_A_TRACKER);
@@ -899,7 +1140,10 @@ unsafe fn tracker<'a>(handle: *mut rbt_tracker) -> Result<&'a mut dyn Track, rbt
     // and borrowed by no one else for `'a` (the caller's promise).
     unsafe {
         let open = ptr::addr_of!((*header.as_ptr()).open).read();
-        Ok(&mut *open(header).as_ptr())
+        Ok(match open(header) {
+            Placed::Particles(t) => Engine::Particles(&mut *t.as_ptr()),
+            Placed::Correlation(t) => Engine::Correlation(&mut *t.as_ptr()),
+        })
     }
 }
 
@@ -909,12 +1153,30 @@ unsafe fn tracker<'a>(handle: *mut rbt_tracker) -> Result<&'a mut dyn Track, rbt
 /// As [`tracker`].
 unsafe fn with_tracker(
     handle: *mut rbt_tracker,
-    f: impl FnOnce(&mut dyn Track) -> rbt_error,
+    f: impl FnOnce(Engine<'_>) -> rbt_error,
 ) -> rbt_error {
     // SAFETY: as this function's contract.
     match unsafe { tracker(handle) } {
         Ok(t) => f(t),
         Err(e) => e,
+    }
+}
+
+/// Runs `f` on the particle filter behind `handle`, returning its code;
+/// `RBT_ERR_TRACKER_KIND` for the correlation-filter tracker.
+///
+/// # Safety
+/// As [`tracker`].
+unsafe fn with_particles(
+    handle: *mut rbt_tracker,
+    f: impl FnOnce(&mut dyn Track) -> rbt_error,
+) -> rbt_error {
+    // SAFETY: as this function's contract.
+    unsafe {
+        with_tracker(handle, |t| match t {
+            Engine::Particles(t) => f(t),
+            Engine::Correlation(_) => RBT_ERR_TRACKER_KIND,
+        })
     }
 }
 
@@ -963,6 +1225,14 @@ pub const RBT_TRACKER_LUMA_100_SIZE: usize = 32048;
 /// Bytes of memory for a tracker of 100 particles on 64 grey levels (64-bit targets).
 #[cfg(target_pointer_width = "64")]
 pub const RBT_TRACKER_LUMA_100_SIZE: usize = 32080;
+/// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
+/// scales, 512 RGB bins (8x8x8) (32-bit targets).
+#[cfg(target_pointer_width = "32")]
+pub const RBT_TRACKER_CF_SIZE: usize = 89048;
+/// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
+/// scales, 512 RGB bins (8x8x8) (64-bit targets).
+#[cfg(target_pointer_width = "64")]
+pub const RBT_TRACKER_CF_SIZE: usize = 89120;
 /// Alignment of every tracker's memory, bytes.
 pub const RBT_TRACKER_ALIGN: usize = 8;
 
@@ -983,6 +1253,7 @@ check_memory!(RgbTracker<200>, RBT_TRACKER_RGB_200_SIZE);
 check_memory!(Rgb256Tracker<100>, RBT_TRACKER_RGB256_100_SIZE);
 check_memory!(YuvTracker<100>, RBT_TRACKER_YUV_100_SIZE);
 check_memory!(LumaTracker<100>, RBT_TRACKER_LUMA_100_SIZE);
+check_memory!(RgbCfTracker, RBT_TRACKER_CF_SIZE);
 
 /// Places an unstarted tracker of 25 particles on 512 RGB bins (8x8x8) in `memory`
 /// (`RBT_TRACKER_RGB_25_SIZE` bytes, aligned to `RBT_TRACKER_ALIGN`) and writes its handle
@@ -1103,8 +1374,58 @@ pub unsafe extern "C" fn rbt_tracker_place_luma_100(
     unsafe { place::<LumaTracker<100>>(memory, size, tracker) }
 }
 
+/// Places the unstarted correlation-filter tracker at its defaults (16 x 16 cells, 8
+/// scales, 512 RGB bins (8x8x8): the core's `RgbCfTracker`) in `memory`
+/// (`RBT_TRACKER_CF_SIZE` bytes, aligned to `RBT_TRACKER_ALIGN`) and writes its handle to
+/// `tracker`; `rbt_cf_start` starts it.
+///
+/// # Safety
+/// `memory` is null or points to `size` writable bytes that the tracker owns from then
+/// on; `tracker` is null or points to a writable pointer.
+#[no_mangle]
+pub unsafe extern "C" fn rbt_tracker_place_cf(
+    memory: *mut c_void,
+    size: usize,
+    tracker: *mut *mut rbt_tracker,
+) -> rbt_error {
+    // SAFETY: as this function's contract.
+    unsafe { place::<RgbCfTracker>(memory, size, tracker) }
+}
+
+/// Starts the correlation-filter tracker on the box `box` of `frame` with `config`, in
+/// place, whatever it did before (the core's `CfTracker::start`: its models learn the box
+/// afresh); `RBT_ERR_TRACKER_KIND` for a particle filter.
+///
+/// # Safety
+/// `tracker` is null or a handle from `rbt_tracker_place_*` whose memory is still the
+/// tracker's and used by no other call meanwhile; `config`, `frame` and `box` are null or
+/// point to their types, and `frame->data` to `frame->size` readable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn rbt_cf_start(
+    tracker: *mut rbt_tracker,
+    config: *const rbt_cf_config,
+    frame: *const rbt_image,
+    r#box: *const rbt_rect,
+) -> rbt_error {
+    // SAFETY: as this function's contract.
+    let (config, frame, init) =
+        match unsafe { (cf_config(config), self::frame(frame), ellipse(r#box)) } {
+            (Ok(Ok(config)), Ok(frame), Ok(init)) => (config, frame, Rect::from(init)),
+            (Ok(Err(bad)), ..) => return bad.into(),
+            (Err(e), ..) | (_, Err(e), _) | (.., Err(e)) => return e,
+        };
+    // SAFETY: as this function's contract.
+    unsafe {
+        with_tracker(tracker, |t| match t {
+            Engine::Correlation(t) => code(t.start(config, &frame, init)),
+            Engine::Particles(_) => RBT_ERR_TRACKER_KIND,
+        })
+    }
+}
+
 /// Starts the tracker on the box `box` of `frame` with `config`, in place, whatever it did
-/// before (the core's `Tracker::start`).
+/// before (the core's `Tracker::start`); `RBT_ERR_TRACKER_KIND` for the correlation-filter
+/// tracker, which `rbt_cf_start` starts.
 ///
 /// # Safety
 /// `tracker` is null or a handle from `rbt_tracker_place_*` whose memory is still the
@@ -1125,11 +1446,12 @@ pub unsafe extern "C" fn rbt_start(
             (Err(e), ..) | (_, Err(e), _) | (.., Err(e)) => return e,
         };
     // SAFETY: as this function's contract.
-    unsafe { with_tracker(tracker, |t| code(t.start(config, &frame, init))) }
+    unsafe { with_particles(tracker, |t| code(t.start(config, &frame, init))) }
 }
 
 /// Re-initialises the tracker on the box `box` of `frame`: a new model, the
-/// configuration kept (the core's `Tracker::reset`).
+/// configuration kept (the core's `Tracker::reset`); `RBT_ERR_TRACKER_KIND` for the
+/// correlation-filter tracker (`rbt_cf_start` starts it again).
 ///
 /// # Safety
 /// As `rbt_start`.
@@ -1145,11 +1467,12 @@ pub unsafe extern "C" fn rbt_reset(
         (Err(e), _) | (_, Err(e)) => return e,
     };
     // SAFETY: as this function's contract.
-    unsafe { with_tracker(tracker, |t| code(t.reset(&frame, init))) }
+    unsafe { with_particles(tracker, |t| code(t.reset(&frame, init))) }
 }
 
 /// Moves the tracker onto the box `box` of `frame` (say a detector's), keeping the model
-/// it learnt (the core's `Tracker::relocate`).
+/// it learnt (the core's `Tracker::relocate`); `RBT_ERR_TRACKER_KIND` for the
+/// correlation-filter tracker, whose models learn a new box afresh (`rbt_cf_start`).
 ///
 /// # Safety
 /// As `rbt_start`.
@@ -1165,7 +1488,7 @@ pub unsafe extern "C" fn rbt_relocate(
         (Err(e), _) | (_, Err(e)) => return e,
     };
     // SAFETY: as this function's contract.
-    unsafe { with_tracker(tracker, |t| code(t.relocate(&frame, at))) }
+    unsafe { with_particles(tracker, |t| code(t.relocate(&frame, at))) }
 }
 
 /// Tracks one frame and writes the estimate to `estimate` (the core's `Tracker::step`;
@@ -1188,7 +1511,15 @@ pub unsafe extern "C" fn rbt_step(
         Err(e) => return e,
     };
     // SAFETY: as this function's contract.
-    unsafe { with_tracker(tracker, |t| put(estimate, t.step(&frame).into())) }
+    unsafe {
+        with_tracker(tracker, |t| {
+            let e = match t {
+                Engine::Particles(t) => t.step(&frame),
+                Engine::Correlation(t) => t.step(&frame),
+            };
+            put(estimate, e.into())
+        })
+    }
 }
 
 /// Writes the tracker's last estimate (its box before any step) to `estimate`.
@@ -1201,7 +1532,15 @@ pub unsafe extern "C" fn rbt_estimate_of(
     estimate: *mut rbt_estimate,
 ) -> rbt_error {
     // SAFETY: as this function's contract.
-    unsafe { with_tracker(tracker, |t| put(estimate, t.estimate().into())) }
+    unsafe {
+        with_tracker(tracker, |t| {
+            let e = match t {
+                Engine::Particles(t) => t.estimate(),
+                Engine::Correlation(t) => t.estimate(),
+            };
+            put(estimate, e.into())
+        })
+    }
 }
 
 /// How the picture moved since the last frame: the scene point seen at `p` is next seen
@@ -1246,7 +1585,10 @@ pub unsafe extern "C" fn rbt_camera_moved(
     // SAFETY: as this function's contract.
     unsafe {
         with_tracker(tracker, |t| {
-            t.camera_moved(&motion);
+            match t {
+                Engine::Particles(t) => t.camera_moved(&motion),
+                Engine::Correlation(t) => t.camera_moved(&motion),
+            }
             RBT_OK
         })
     }

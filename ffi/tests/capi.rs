@@ -2,19 +2,26 @@
 //! tracks as the core does.
 #![allow(unsafe_code)]
 
-use rbtrack::tracker::{Config, Variant};
-use rbtrack::{Ellipse, Gray8, ImageView, Rect, RgbTracker, Q16};
+use rbtrack::tracker::{CameraMotion, CfConfig, Config, Variant};
+use rbtrack::{Ellipse, Gray8, ImageView, Rect, RgbCfTracker, RgbTracker, Q16};
 use rbtrack_ffi::capi::rbt_error::{self, *};
 use rbtrack_ffi::capi::*;
 use std::ffi::{c_void, CStr};
 use std::ptr::{null, null_mut};
 
+/// Bytes of the largest tracker offered.
+const LARGEST: usize = if RBT_TRACKER_CF_SIZE > RBT_TRACKER_RGB_200_SIZE {
+    RBT_TRACKER_CF_SIZE
+} else {
+    RBT_TRACKER_RGB_200_SIZE
+};
+
 /// Memory for the largest tracker offered, aligned.
 #[repr(C, align(8))]
-struct Memory([u8; RBT_TRACKER_RGB_200_SIZE + 8]);
+struct Memory([u8; LARGEST + 8]);
 
 fn memory() -> Box<Memory> {
-    Box::new(Memory([0xA5; RBT_TRACKER_RGB_200_SIZE + 8]))
+    Box::new(Memory([0xA5; LARGEST + 8]))
 }
 
 /// A bright 16x16 square at `x0` on a dark 64x48 grey frame.
@@ -68,6 +75,121 @@ fn started(mem: &mut Memory, buf: &[u8]) -> *mut rbt_tracker {
         RBT_OK
     );
     tracker
+}
+
+fn square_box() -> rbt_rect {
+    rbt_rect {
+        x: q(20),
+        y: q(16),
+        w: q(16),
+        h: q(16),
+    }
+}
+
+/// The placed correlation-filter tracker started on the square at 20.
+fn started_cf(mem: &mut Memory, buf: &[u8]) -> *mut rbt_tracker {
+    let mut tracker = null_mut();
+    let place =
+        unsafe { rbt_tracker_place_cf(mem.0.as_mut_ptr().cast(), mem.0.len(), &mut tracker) };
+    assert_eq!(place, RBT_OK);
+    let mut config = rbt_cf_config::default();
+    assert_eq!(unsafe { rbt_cf_config_default(&mut config) }, RBT_OK);
+    assert_eq!(
+        unsafe { rbt_cf_start(tracker, &config, &image(buf), &square_box()) },
+        RBT_OK
+    );
+    tracker
+}
+
+#[test]
+fn the_correlation_filter_tracker_tracks_as_the_cores_does() {
+    let mut mem = memory();
+    let first = square(20);
+    let tracker = started_cf(&mut mem, &first);
+    let view = ImageView::<Gray8>::new(&first, 64, 48, 64).unwrap();
+    let mut core = Box::new(RgbCfTracker::unstarted());
+    core.start(CfConfig::default(), &view, Rect::new(20, 16, 16, 16))
+        .unwrap();
+    let mut got = rbt_estimate::default();
+    assert_eq!(unsafe { rbt_estimate_of(tracker, &mut got) }, RBT_OK);
+    assert_eq!(got, rbt_estimate::from(*core.estimate()));
+    for x0 in [22, 24, 26, 28, 30] {
+        let buf = square(x0);
+        assert_eq!(unsafe { rbt_step(tracker, &image(&buf), &mut got) }, RBT_OK);
+        let want = core.step(&ImageView::<Gray8>::new(&buf, 64, 48, 64).unwrap());
+        assert_eq!(got, rbt_estimate::from(want));
+    }
+    assert!(got.cx > q(36), "it follows the square: {got:?}");
+    let motion = rbt_motion {
+        dx: -q(2),
+        dy: 0,
+        zoom: RBT_Q16_ONE,
+        centre_x: q(32),
+        centre_y: q(24),
+    };
+    assert_eq!(unsafe { rbt_camera_moved(tracker, &motion) }, RBT_OK);
+    core.camera_moved(&CameraMotion {
+        dx: Q16::from_int(-2),
+        dy: Q16::ZERO,
+        zoom: Q16::ONE,
+        centre_x: Q16::from_int(32),
+        centre_y: Q16::from_int(24),
+    });
+    assert_eq!(unsafe { rbt_estimate_of(tracker, &mut got) }, RBT_OK);
+    assert_eq!(got, rbt_estimate::from(*core.estimate()));
+}
+
+#[test]
+fn a_call_for_the_other_kind_of_tracker_is_refused() {
+    let (mut cf_mem, mut pf_mem) = (memory(), memory());
+    let buf = square(20);
+    let (cf, pf) = (started_cf(&mut cf_mem, &buf), started(&mut pf_mem, &buf));
+    let (frame, r#box) = (image(&buf), square_box());
+    let config = default_config(rbt_variant::RBT_VARIANT_RBPF);
+    let mut cf_config = rbt_cf_config::default();
+    unsafe {
+        assert_eq!(rbt_cf_config_default(&mut cf_config), RBT_OK);
+        assert_eq!(rbt_start(cf, &config, &frame, &r#box), RBT_ERR_TRACKER_KIND);
+        assert_eq!(rbt_reset(cf, &frame, &r#box), RBT_ERR_TRACKER_KIND);
+        assert_eq!(rbt_relocate(cf, &frame, &r#box), RBT_ERR_TRACKER_KIND);
+        assert_eq!(
+            rbt_cf_start(pf, &cf_config, &frame, &r#box),
+            RBT_ERR_TRACKER_KIND
+        );
+        // Each still tracks.
+        let mut estimate = rbt_estimate::default();
+        assert_eq!(rbt_step(cf, &image(&square(22)), &mut estimate), RBT_OK);
+        assert_eq!(rbt_step(pf, &image(&square(22)), &mut estimate), RBT_OK);
+        // Its own refusals: null pointers, short memory, a bad configuration or box.
+        let mut out = null_mut();
+        let base = cf_mem.0.as_mut_ptr().cast::<c_void>();
+        assert_eq!(
+            rbt_tracker_place_cf(base, RBT_TRACKER_CF_SIZE - 1, &mut out),
+            RBT_ERR_MEMORY_SIZE
+        );
+        assert_eq!(
+            rbt_tracker_place_cf(null_mut(), 1 << 20, &mut out),
+            RBT_ERR_NULL
+        );
+        assert_eq!(rbt_cf_start(cf, null(), &frame, &r#box), RBT_ERR_NULL);
+        assert_eq!(rbt_cf_start(cf, &cf_config, null(), &r#box), RBT_ERR_NULL);
+        assert_eq!(rbt_cf_start(cf, &cf_config, &frame, null()), RBT_ERR_NULL);
+        assert_eq!(rbt_cf_config_default(null_mut()), RBT_ERR_NULL);
+        assert_eq!(rbt_cf_config_check(null(), null_mut(), 0), RBT_ERR_NULL);
+        let odd_cell = rbt_cf_config {
+            cell: 3,
+            ..cf_config
+        };
+        assert_eq!(
+            rbt_cf_start(cf, &odd_cell, &frame, &r#box),
+            RBT_ERR_CONFIG_RANGE
+        );
+        let outside = rbt_rect { x: q(100), ..r#box };
+        assert_eq!(
+            rbt_cf_start(cf, &cf_config, &frame, &outside),
+            RBT_ERR_BOX_OUTSIDE
+        );
+    }
 }
 
 #[test]
@@ -172,19 +294,53 @@ fn configurations_round_trip_and_every_code_has_a_name() {
             );
         }
     }
+    let cf = rbt_cf_config::from(&CfConfig::default());
+    let mut defaults = rbt_cf_config::default();
+    assert_eq!(unsafe { rbt_cf_config_default(&mut defaults) }, RBT_OK);
+    assert_eq!(defaults, cf);
+    assert_eq!(unsafe { rbt_cf_config_check(&cf, null_mut(), 0) }, RBT_OK);
+    for (bad, field) in [
+        (rbt_cf_config { cell: 5, ..cf }, "cell"),
+        (rbt_cf_config { redetect: 9, ..cf }, "redetect"),
+        (
+            rbt_cf_config {
+                lost_below: cf.uncertain_below + 1,
+                ..cf
+            },
+            "lost_below",
+        ),
+        (
+            rbt_cf_config {
+                scale_step: RBT_Q16_ONE,
+                ..cf
+            },
+            "scale.step",
+        ),
+    ] {
+        let mut message = [0xFFu8; 64];
+        assert_eq!(
+            unsafe { rbt_cf_config_check(&bad, message.as_mut_ptr().cast(), 64) },
+            RBT_ERR_CONFIG_RANGE
+        );
+        let text = CStr::from_bytes_until_nul(&message)
+            .unwrap()
+            .to_str()
+            .unwrap();
+        assert!(text.contains(field), "{field}: {text}");
+    }
     let mut names = std::collections::HashSet::new();
-    for code in 0..=24 {
+    for code in 0..=25 {
         let name = unsafe { CStr::from_ptr(rbt_error_name(code)) }
             .to_str()
             .unwrap();
         assert!(name.starts_with("RBT_"), "{code}: {name}");
         assert!(names.insert(name), "{code}: {name} twice");
     }
-    for code in [-1, 25, i32::MAX] {
+    for code in [-1, 26, i32::MAX] {
         let name = unsafe { CStr::from_ptr(rbt_error_name(code)) };
         assert_eq!(name.to_str().unwrap(), "unknown rbt_error code");
     }
-    assert_eq!(rbt_error::RBT_ERR_PANTILT_RANGE as i32, 24, "the last code");
+    assert_eq!(rbt_error::RBT_ERR_TRACKER_KIND as i32, 25, "the last code");
 }
 
 #[test]

@@ -151,7 +151,8 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
                 source.sample(frame, ty, &mut patch[(p + 1) % 3][..w]);
             }
         }
-        let around = [p.saturating_sub(1), p, (p + 1).min(h - 1)].map(|i| &patch[i % 3][..w]);
+        let around = [p.saturating_sub(1), p, (p + 1).min(h - 1)]
+            .map(|i| patch[i % 3].get(..w).unwrap_or_default());
         // A one-sided difference at the patch's edge counts twice.
         let scale_y = match (p, h) {
             (_, 1) => 0,
