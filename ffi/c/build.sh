@@ -5,6 +5,8 @@
 #   ffi/c/build.sh firmware   # target/c/firmware.elf (arm-none-eabi-gcc), run in QEMU's
 #                             # mps2-an386: prints the example firmware's checksum (the
 #                             # library with RGB565 alone; FFI_FEATURES=default: all formats)
+#   ffi/c/build.sh cf-firmware  # target/c/cf_firmware.elf, the same for the correlation-
+#                             # filter firmware's workload: prints its `cf checksum`
 #   ffi/c/build.sh proof      # links every C function of the thumbv7em library with its
 #                             # panic handler, which cannot link: fails if a panic is reachable
 #
@@ -27,21 +29,24 @@ host)
     target/release/librbtrack_ffi.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o target/c/track
   echo "target/c/track"
   ;;
-firmware)
+firmware | cf-firmware)
   # The scene is RGB565 little-endian: the library is built with that pixel format alone,
   # as a firmware builds it for its camera (FFI_FEATURES=default: all seven formats).
   cargo build -q --release -p rbtrack-ffi --target "$target" --no-default-features \
     --features "${FFI_FEATURES:-rgb565le}"
-  arm-none-eabi-gcc "${arm_flags[@]}" -std=c11 -O2 -Wall -Wextra -Werror -ffreestanding -ffunction-sections \
-    -fdata-sections -nostdlib -Iffi/include -T ffi/c/firmware/link.ld -Wl,--gc-sections,-z,noexecstack \
-    ffi/c/firmware/startup.c ffi/c/firmware/main.c "$arm_lib" -lgcc -o target/c/firmware.elf
-  arm-none-eabi-size -A target/c/firmware.elf | awk '
+  elf="target/c/${1/-/_}.elf"
+  workload=()
+  [ "$1" = cf-firmware ] && workload=(-DCF_FIRMWARE)
+  arm-none-eabi-gcc "${arm_flags[@]}" "${workload[@]}" -std=c11 -O2 -Wall -Wextra -Werror -ffreestanding \
+    -ffunction-sections -fdata-sections -nostdlib -Iffi/include -T ffi/c/firmware/link.ld \
+    -Wl,--gc-sections,-z,noexecstack ffi/c/firmware/startup.c ffi/c/firmware/main.c "$arm_lib" -lgcc -o "$elf"
+  arm-none-eabi-size -A "$elf" | awk -v elf="$elf" '
     $1 ~ /^\.(vectors|text|rodata|ARM\.exidx|data)$/ { flash += $2 }
     $1 ~ /^\.(data|bss)$/ { ram += $2 }
-    END { printf "target/c/firmware.elf: %d B of flash, %d B of RAM in .data and .bss\n", flash, ram }'
+    END { printf "%s: %d B of flash, %d B of RAM in .data and .bss\n", elf, flash, ram }'
   # SYS_WRITE0 goes to QEMU's stderr: the firmware's output on stdout with the rest.
   timeout 600 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic \
-    -semihosting-config enable=on,target=native -kernel target/c/firmware.elf 2>&1
+    -semihosting-config enable=on,target=native -kernel "$elf" 2>&1
   ;;
 proof)
   cargo build -q --release -p rbtrack-ffi --target "$target" # every pixel format
@@ -55,7 +60,7 @@ proof)
   echo "no panic reachable from the ${#functions[@]} C functions: ${functions[*]}"
   ;;
 *)
-  echo "usage: ffi/c/build.sh host|firmware|proof" >&2
+  echo "usage: ffi/c/build.sh host|firmware|cf-firmware|proof" >&2
   exit 2
   ;;
 esac

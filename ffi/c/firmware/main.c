@@ -5,8 +5,11 @@
  * checksum over every estimate (firmware/src/run.rs's: 64-bit FNV-1a over each
  * estimate's centre, half-axes, velocity and confidence, Q16.16 bits, and status, as
  * little-endian 32-bit words), which must equal the one the Rust firmware prints.
+ * Built with CF_FIRMWARE defined, it is the correlation-filter firmware's workload
+ * (examples/cf_firmware.rs) instead: the correlation-filter tracker at its defaults over
+ * the same frames, and its checksum, `cf checksum`.
  *
- * Build and run: ffi/c/build.sh firmware (docs/c.md). */
+ * Build and run: ffi/c/build.sh firmware, ffi/c/build.sh cf-firmware (docs/c.md). */
 #include <stddef.h>
 #include <stdint.h>
 
@@ -32,8 +35,11 @@ static const int32_t TOP[3] = {200, 45, 40}, BOTTOM[3] = {45, 65, 185};
 
 /* The frame buffer and the tracker's memory, in .bss. */
 static uint8_t frame_buffer[FRAME_BYTES];
+#ifdef CF_FIRMWARE
+static _Alignas(RBT_TRACKER_ALIGN) uint8_t tracker_memory[RBT_TRACKER_CF_SIZE];
+#else
 static _Alignas(RBT_TRACKER_ALIGN) uint8_t tracker_memory[RBT_TRACKER_RGB_100_SIZE];
-_Static_assert(sizeof tracker_memory >= RBT_TRACKER_RGB_100_SIZE, "tracker memory too small");
+#endif
 _Static_assert(_Alignof(tracker_memory) >= RBT_TRACKER_ALIGN, "tracker memory misaligned");
 
 /* The scene's 32-bit hash of three coordinates and a seed. */
@@ -181,6 +187,52 @@ static int fail(const char *what, rbt_error e) {
     return 1;
 }
 
+/* Prints the stack's high-water mark. */
+static void print_stack_used(void) {
+    char digits[12] = {0};
+    char *at = digits + sizeof digits - 1;
+    uint32_t stack = stack_used();
+    do *--at = (char)('0' + stack % 10); while ((stack /= 10) > 0);
+    semihosting_write("stack high-water mark: ");
+    semihosting_write(at);
+    semihosting_write(" bytes\n");
+}
+
+/* The first frame's box: the true ellipse's bounding box, which the tracker turns back
+ * into it exactly. */
+static rbt_rect first_box(void) {
+    ellipse e = truth(0);
+    rbt_rect box = {e.cx - e.hx + RBT_Q16_ONE / 2, e.cy - e.hy + RBT_Q16_ONE / 2, 2 * e.hx, 2 * e.hy};
+    return box;
+}
+
+#ifdef CF_FIRMWARE
+int main(void) {
+    semihosting_write("rbtrack C correlation-filter firmware: 320x240 RGB565 scene, seed 1, 60 frames; 16 x 16 cells, 8 scales\n");
+    rbt_tracker *tracker;
+    rbt_error err = rbt_tracker_place_cf(tracker_memory, sizeof tracker_memory, &tracker);
+    if (err != RBT_OK) return fail("place", err);
+    const rbt_image image = {frame_buffer, sizeof frame_buffer, WIDTH, HEIGHT, WIDTH, RBT_FORMAT_RGB565LE};
+    rbt_cf_config config;
+    err = rbt_cf_config_default(&config);
+    if (err != RBT_OK) return fail("config", err);
+    rbt_rect box = first_box();
+    render(0);
+    err = rbt_cf_start(tracker, &config, &image, &box);
+    if (err != RBT_OK) return fail("start", err);
+    uint64_t checksum = 0xCBF29CE484222325ull;
+    for (int32_t frame = 1; frame <= FRAMES; frame++) {
+        render(frame);
+        rbt_estimate estimate;
+        err = rbt_step(tracker, &image, &estimate);
+        if (err != RBT_OK) return fail("step", err);
+        checksum = add_estimate(checksum, &estimate);
+    }
+    print_stack_used();
+    print_hex("cf checksum ", checksum);
+    return 0;
+}
+#else
 int main(void) {
     semihosting_write("rbtrack C example firmware: 320x240 RGB565 scene, seed 1, 60 frames; N = 100, 512 bins\n");
     rbt_tracker *tracker;
@@ -195,9 +247,7 @@ int main(void) {
         if (err != RBT_OK) return fail("config", err);
         config.seed = TRACKER_SEED;
         if (variants[v] == RBT_VARIANT_RBPF) config.scale_per_row = SCALE_PER_ROW;
-        /* The true ellipse's bounding box, which the tracker turns back into it exactly. */
-        ellipse e = truth(0);
-        rbt_rect box = {e.cx - e.hx + RBT_Q16_ONE / 2, e.cy - e.hy + RBT_Q16_ONE / 2, 2 * e.hx, 2 * e.hy};
+        rbt_rect box = first_box();
         render(0);
         err = rbt_start(tracker, &config, &image, &box);
         if (err != RBT_OK) return fail("start", err);
@@ -212,13 +262,8 @@ int main(void) {
         }
         print_hex(variants[v] == RBT_VARIANT_RBPF ? "rbpf: checksum " : "pf: checksum ", own);
     }
-    char digits[12] = {0};
-    char *at = digits + sizeof digits - 1;
-    uint32_t stack = stack_used();
-    do *--at = (char)('0' + stack % 10); while ((stack /= 10) > 0);
-    semihosting_write("stack high-water mark: ");
-    semihosting_write(at);
-    semihosting_write(" bytes\n");
+    print_stack_used();
     print_hex("checksum ", checksum);
     return 0;
 }
+#endif
