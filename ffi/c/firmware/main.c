@@ -206,6 +206,22 @@ static rbt_rect first_box(void) {
     return box;
 }
 
+/* The FNV-1a offset basis: an empty checksum. */
+#define FNV_OFFSET 0xCBF29CE484222325ull
+
+/* Renders and tracks frames 1..=FRAMES, folding every estimate into each of the `n`
+ * checksums at `sums`. */
+static rbt_error track_frames(rbt_tracker *tracker, const rbt_image *image, uint64_t *sums, int n) {
+    for (int32_t frame = 1; frame <= FRAMES; frame++) {
+        render(frame);
+        rbt_estimate estimate;
+        rbt_error err = rbt_step(tracker, image, &estimate);
+        if (err != RBT_OK) return err;
+        for (int i = 0; i < n; i++) sums[i] = add_estimate(sums[i], &estimate);
+    }
+    return RBT_OK;
+}
+
 #ifdef CF_FIRMWARE
 int main(void) {
     semihosting_write("rbtrack C correlation-filter firmware: 320x240 RGB565 scene, seed 1, 60 frames; 16 x 16 cells, 8 scales\n");
@@ -220,14 +236,9 @@ int main(void) {
     render(0);
     err = rbt_cf_start(tracker, &config, &image, &box);
     if (err != RBT_OK) return fail("start", err);
-    uint64_t checksum = 0xCBF29CE484222325ull;
-    for (int32_t frame = 1; frame <= FRAMES; frame++) {
-        render(frame);
-        rbt_estimate estimate;
-        err = rbt_step(tracker, &image, &estimate);
-        if (err != RBT_OK) return fail("step", err);
-        checksum = add_estimate(checksum, &estimate);
-    }
+    uint64_t checksum = FNV_OFFSET;
+    err = track_frames(tracker, &image, &checksum, 1);
+    if (err != RBT_OK) return fail("step", err);
     print_stack_used();
     print_hex("cf checksum ", checksum);
     return 0;
@@ -240,7 +251,7 @@ int main(void) {
     if (err != RBT_OK) return fail("place", err);
     const rbt_image image = {frame_buffer, sizeof frame_buffer, WIDTH, HEIGHT, WIDTH, RBT_FORMAT_RGB565LE};
     const uint32_t variants[2] = {RBT_VARIANT_RBPF, RBT_VARIANT_COLOUR_PF};
-    uint64_t checksum = 0xCBF29CE484222325ull;
+    uint64_t checksum = FNV_OFFSET;
     for (int v = 0; v < 2; v++) {
         rbt_config config;
         err = rbt_config_default(variants[v], &config);
@@ -251,16 +262,12 @@ int main(void) {
         render(0);
         err = rbt_start(tracker, &config, &image, &box);
         if (err != RBT_OK) return fail("start", err);
-        uint64_t own = 0xCBF29CE484222325ull;
-        for (int32_t frame = 1; frame <= FRAMES; frame++) {
-            render(frame);
-            rbt_estimate estimate;
-            err = rbt_step(tracker, &image, &estimate);
-            if (err != RBT_OK) return fail("step", err);
-            checksum = add_estimate(checksum, &estimate);
-            own = add_estimate(own, &estimate);
-        }
-        print_hex(variants[v] == RBT_VARIANT_RBPF ? "rbpf: checksum " : "pf: checksum ", own);
+        /* The run's own checksum, and the one over both runs. */
+        uint64_t sums[2] = {FNV_OFFSET, checksum};
+        err = track_frames(tracker, &image, sums, 2);
+        if (err != RBT_OK) return fail("step", err);
+        checksum = sums[1];
+        print_hex(variants[v] == RBT_VARIANT_RBPF ? "rbpf: checksum " : "pf: checksum ", sums[0]);
     }
     print_stack_used();
     print_hex("checksum ", checksum);

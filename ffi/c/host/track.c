@@ -60,7 +60,7 @@ int main(int argc, char **argv) {
     rbt_cf_config cf_config;
     rbt_error e = correlation ? rbt_cf_config_default(&cf_config) : rbt_config_default(variant, &config);
     if (e != RBT_OK) return fail("config", e);
-    if (argc > 6) config.seed = strtoull(argv[6], NULL, 10);
+    if (argc > 6 && !correlation) config.seed = strtoull(argv[6], NULL, 10);
     char why[96];
     e = correlation ? rbt_cf_config_check(&cf_config, why, sizeof why) : rbt_config_check(&config, why, sizeof why);
     if (e != RBT_OK) return fail(why, e);
