@@ -12,17 +12,28 @@
 //! sample of the target's size; new samples `Z` answer `IFFT(sum_d A_d Z_d / (B + lambda))`,
 //! peaked at the scale the target now has.
 //!
+//! # Two features in one transform
+//! The features are real, so their spectra are Hermitian (`X_S-k = conj(X_k)`), and so are
+//! the numerators. Features `2p` and `2p + 1` are transformed together, as the real and
+//! imaginary parts of one row: `Z_p = X_2p + i X_2p+1`, whose mirror image gives both back
+//! (`conj(Z_p,S-k) = X_2p - i X_2p+1`). The filter keeps only these pair spectra and the
+//! pair numerators `P_p = A_2p + i A_2p+1`, half the memory and half the transforms of one
+//! row per feature, and needs no unpacking: the new numerator of a pair is
+//! `Y_k Z_p,S-k`, the denominator `sum_p (|Z_p,k|^2 + |Z_p,S-k|^2) / 2`, and with
+//! `U_k = sum_p P_p,k conj(Z_p,S-k)` the response's spectrum is `(U_k + conj(U_S-k)) / 2`.
+//!
 //! # Fixed-point scales
 //! - Features: Q15 from [`features::extract`] (`|x| <= 2^15`), shifted to Q21.
-//! - Spectra `X_d`, `Z_d`: the transform of Q21 features, Q21, `|X| <= S 2^21 <= 2^27`: the
-//!   FFT never shifts a block that small (a block exponent would be undone, saturating).
+//! - Pair spectra `Z_p`: the transform of Q21 features, Q21, `|Z| <= sqrt 2 S 2^21 <=
+//!   2^27.5`: the FFT never shifts a block that small (a block exponent would be undone,
+//!   saturating).
 //! - Label: Q16 from [`exp_neg`] (peak 65,535), its spectrum `|Y| <= S 2^16`, Q16.
-//! - Numerator `A_d`: the Q37 products `Y conj(X_d)` rounded to Q17 (`>> 20`), `i32`,
-//!   `|A| <= S^2 2^17 <= 2^29`.
-//! - Denominator `B`: `sum_d |X_d|^2`, Q42, `i64`, `<= D S^2 2^42 < 2^62.2`; `lambda`
-//!   (Q0.32) raised to Q42.
-//! - `sum_d A_d Z_d`: each product Q38 floored to Q30 (`>> 8`), `<= 2^48`, the sum
-//!   `<= 2^56.2`, `i64` (accumulated saturating all the same).
+//! - Pair numerators `P_p`: the Q37 products `Y_k Z_p,S-k` rounded to Q17 (`>> 20`), `i32`,
+//!   `|P| <= sqrt 2 S^2 2^17 <= 2^29.5`.
+//! - Denominator `B`: Q42, `i64`, `<= D S^2 2^42 < 2^62.2`; `lambda` (Q0.32) raised to Q42.
+//! - `U_k + conj(U_S-k)`: each product Q38 floored to Q30 (`>> 8`), `<= 2^49`, the sum
+//!   `<= 2^58.2`, `i64` (accumulated saturating all the same); twice the response's
+//!   spectrum, so the quotient below shifts one bit less.
 //! - Quotient by `B + lambda`: Q16 saturated to `i32` (in `i128`), inverse transform, the
 //!   block exponent applied: the response, Q16 (about 1 at the peak for the trained
 //!   samples). The label's peak of 65,535 rather than 65,536 costs 1.5e-5 of it.
@@ -32,10 +43,10 @@
 //! 2 LSB of Q16.16 for `|x| <= 8` at the steps allowed (1.2 measured).
 //!
 //! Against the host's f64 filter on the same (Q15) features of its test scene, the
-//! responses agree within 2.6e-5 and the size factors within 5.2e-6; each on its own
-//! features of the frame, the factors within 6e-3, the features' difference
+//! responses agree within 2.9e-5 and the size factors within 7.7e-6; each on its own
+//! features of the frame, the factors within 4e-3, the features' difference
 //! (`host-tests/tests/cf_scale.rs`). Stack: 640 bytes of cells for one sample, a few
-//! hundred more; the filter itself is 37,088 bytes for `S = 8`.
+//! hundred more; the filter itself is 18,624 bytes for `S = 8` on a 32-bit target.
 
 use super::features::{self, Cell, Sampling, CHANNELS};
 use crate::fft::{forward, inverse, Complex};
@@ -52,6 +63,9 @@ pub const CELL_FEATURES: usize = CHANNELS - 1;
 /// Largest number of features of a sample, `D`.
 pub const MAX_FEATURES: usize = MAX_CELLS * CELL_FEATURES;
 
+/// Largest number of feature pairs, each transformed as one complex row.
+const MAX_PAIRS: usize = MAX_FEATURES.div_ceil(2);
+
 /// Left shift of the Q15 features to Q21.
 const FEATURE_SHIFT: u32 = 6;
 
@@ -61,8 +75,9 @@ const NUM_SHIFT: u32 = 20;
 /// Right shift of the Q38 products `A Z` to Q30.
 const SUM_SHIFT: u32 = 8;
 
-/// Left shift of a Q30 quotient by a Q42 denominator to Q16.
-const QUOTIENT_SHIFT: u32 = 16 + 42 - 30;
+/// Left shift of a Q30 quotient by a Q42 denominator to Q16, less 1 for the doubled sum
+/// the pairs give.
+const QUOTIENT_SHIFT: u32 = 16 + 42 - 30 - 1;
 
 /// Q30 fraction bits of the powers of the step.
 const POW_BITS: u32 = 30;
@@ -170,26 +185,28 @@ impl Grid {
 
 /// The scale filter, `S` scales (a power of two, `2..=64`).
 ///
-/// 37,088 bytes for `S = 8`: the numerator and the last samples' spectra,
-/// `MAX_FEATURES x S` complex each (18,432 bytes), and `S` values of the rest.
+/// 18,624 bytes for `S = 8` on a 32-bit target (18,664 on a 64-bit host): the numerator and the last samples' spectra, packed in pairs,
+/// `MAX_FEATURES / 2 x S` complex each (9,216 bytes), and `S` values of the rest.
 #[derive(Clone, Debug)]
 pub struct ScaleFilter<const S: usize> {
     settings: ScaleSettings,
     grid: Grid,
     /// Features in use, `D = cols rows 9 <= MAX_FEATURES`.
     features: usize,
+    /// Pairs of features in use, `ceil(D / 2)`.
+    pairs: usize,
     /// `1 / (2 (sqrt(S) sigma)^2)`, per scale squared, Q16.16.
     cost: Q16,
     /// Regulariser, Q42.
     lambda: i64,
     /// Size factor of sample `s`, Q16.16.
     factors: [Q16; S],
-    /// `A_d`, Q17.
-    num: [[Complex; S]; MAX_FEATURES],
+    /// `P_p = A_2p + i A_2p+1`, Q17.
+    num: [[Complex; S]; MAX_PAIRS],
     /// `B`, Q42.
     den: [i64; S],
-    /// The last samples' spectra, Q21.
-    samples: [[Complex; S]; MAX_FEATURES],
+    /// The last samples' spectra, `Z_p = X_2p + i X_2p+1`, Q21.
+    samples: [[Complex; S]; MAX_PAIRS],
     /// The last response, Q16.
     response: [i32; S],
     /// The best of the last samples.
@@ -207,12 +224,13 @@ impl<const S: usize> ScaleFilter<S> {
             height: 0,
         },
         features: 0,
+        pairs: 0,
         cost: Q16::ZERO,
         lambda: 0,
         factors: [Q16::ZERO; S],
-        num: [[Complex::ZERO; S]; MAX_FEATURES],
+        num: [[Complex::ZERO; S]; MAX_PAIRS],
         den: [0; S],
-        samples: [[Complex::ZERO; S]; MAX_FEATURES],
+        samples: [[Complex::ZERO; S]; MAX_PAIRS],
         response: [0; S],
         best: 0,
     };
@@ -318,6 +336,7 @@ impl<const S: usize> ScaleFilter<S> {
         self.settings = settings;
         self.grid = grid;
         self.features = (grid.cols * grid.rows * CELL_FEATURES).min(MAX_FEATURES);
+        self.pairs = self.features.div_ceil(2);
         self.cost = Q16::saturate(cost as i64);
         self.lambda = (settings.lambda as i64) << 10;
         self.num.fill([Complex::ZERO; S]);
@@ -358,29 +377,29 @@ impl<const S: usize> ScaleFilter<S> {
                 cell,
             };
             let n = (cols * rows).min(MAX_CELLS);
-            features::extract(frame, &sampling, cells.get_mut(..n).unwrap_or(&mut []));
-            for (row, c) in self.samples.chunks_exact_mut(CELL_FEATURES).zip(&cells) {
-                store(row, c.get(1..).unwrap_or(&[]), s);
-            }
+            let cells = cells.get_mut(..n).unwrap_or(&mut []);
+            features::extract(frame, &sampling, cells);
+            let values = cells.iter().flat_map(|c| c.get(1..).unwrap_or(&[]));
+            store(&mut self.samples, values.copied(), s);
         }
         self.transform();
     }
 
     /// Loads the features `rows` as the samples, transformed.
     fn load(&mut self, rows: &[[i16; S]]) {
-        for (d, sample) in self.samples.iter_mut().enumerate() {
-            let row = rows.get(d).filter(|_| d < self.features);
-            for (s, x) in sample.iter_mut().enumerate() {
-                let v = row.and_then(|r| r.get(s)).copied().unwrap_or(0);
-                *x = Complex::new(i32::from(v) << FEATURE_SHIFT, 0);
-            }
+        for s in 0..S {
+            let values = (0..self.features).map(|d| {
+                let row = rows.get(d);
+                row.and_then(|r| r.get(s)).copied().unwrap_or(0)
+            });
+            store(&mut self.samples, values, s);
         }
         self.transform();
     }
 
-    /// Transforms the samples' rows over the scales, Q21.
+    /// Transforms the samples' pair rows over the scales, Q21.
     fn transform(&mut self) {
-        for row in self.samples.iter_mut().take(self.features) {
+        for row in self.samples.iter_mut().take(self.pairs) {
             let e = forward(row);
             rescale(row, e);
         }
@@ -388,13 +407,18 @@ impl<const S: usize> ScaleFilter<S> {
 
     /// The response to the samples: keeps it and the best sample; returns its factor.
     fn answer(&mut self) -> Q16 {
-        let mut sum = [(0i64, 0i64); S];
-        for (z, a) in self.samples.iter().zip(&self.num).take(self.features) {
-            for ((t, z), a) in sum.iter_mut().zip(z).zip(a) {
+        // U_k = sum_p P_p,k conj(Z_p,S-k); then 2 sum_d A_d,k X_d,k = U_k + conj(U_S-k).
+        let mut u = [(0i64, 0i64); S];
+        for (z, a) in self.samples.iter().zip(&self.num).take(self.pairs) {
+            for ((t, w), a) in u.iter_mut().zip(mirrored(z)).zip(a) {
                 let p = |u: i32, v: i32| (i64::from(u) * i64::from(v)) >> SUM_SHIFT;
-                t.0 = t.0.saturating_add(p(a.re, z.re) - p(a.im, z.im));
-                t.1 = t.1.saturating_add(p(a.re, z.im) + p(a.im, z.re));
+                t.0 = t.0.saturating_add(p(a.re, w.re) + p(a.im, w.im));
+                t.1 = t.1.saturating_add(p(a.im, w.re) - p(a.re, w.im));
             }
+        }
+        let mut sum = [(0i64, 0i64); S];
+        for ((t, u), w) in sum.iter_mut().zip(&u).zip(mirrored(&u)) {
+            *t = (u.0.saturating_add(w.0), u.1.saturating_sub(w.1));
         }
         let mut q = [Complex::ZERO; S];
         for ((q, t), &b) in q.iter_mut().zip(sum).zip(&self.den) {
@@ -432,17 +456,26 @@ impl<const S: usize> ScaleFilter<S> {
     fn learn_at(&mut self, at: usize, rate: Q16) {
         let eta = rate.clamp(Q16::ZERO, Q16::ONE).to_bits();
         let y = self.label(at);
-        let mut den = [0i64; S];
-        for (x, a) in self.samples.iter().zip(&mut self.num).take(self.features) {
-            for (((x, y), a), b) in x.iter().zip(&y).zip(a).zip(&mut den) {
-                let (xr, xi) = (i64::from(x.re), i64::from(x.im));
+        // Pair p's new numerator `Y conj(X_2p) + i Y conj(X_2p+1)` is `Y_k Z_p,S-k`.
+        let mut energy = [0i64; S];
+        for (z, a) in self.samples.iter().zip(&mut self.num).take(self.pairs) {
+            for ((a, y), w) in a.iter_mut().zip(&y).zip(mirrored(z)) {
+                let (wr, wi) = (i64::from(w.re), i64::from(w.im));
                 let (yr, yi) = (i64::from(y.re), i64::from(y.im));
                 let half = 1 << (NUM_SHIFT - 1);
-                let re = (yr * xr + yi * xi + half) >> NUM_SHIFT;
-                let im = (yi * xr - yr * xi + half) >> NUM_SHIFT;
+                let re = (yr * wr - yi * wi + half) >> NUM_SHIFT;
+                let im = (yr * wi + yi * wr + half) >> NUM_SHIFT;
                 *a = Complex::new(blend(a.re, re, eta), blend(a.im, im, eta));
-                *b = b.saturating_add((xr * xr).saturating_add(xi * xi));
             }
+            for (e, z) in energy.iter_mut().zip(z) {
+                let (zr, zi) = (i64::from(z.re), i64::from(z.im));
+                *e = e.saturating_add((zr * zr).saturating_add(zi * zi));
+            }
+        }
+        // sum_d |X_d,k|^2 = sum_p (|Z_p,k|^2 + |Z_p,S-k|^2) / 2.
+        let mut den = [0i64; S];
+        for ((d, e), m) in den.iter_mut().zip(&energy).zip(mirrored(&energy)) {
+            *d = (e / 2).saturating_add(m / 2);
         }
         for (b, new) in self.den.iter_mut().zip(den) {
             let v = (i128::from(*b) * i128::from((1 << 16) - eta)
@@ -476,14 +509,22 @@ fn covered(extent: Q16, cells: usize, model: usize) -> (Q16, Q16) {
     (part(c, m), part(c - m, 2 * m))
 }
 
-/// Stores the 9 unsigned channels `cell` (Q15) as sample `s` of the feature rows `rows`,
-/// Q21.
-fn store<const S: usize>(rows: &mut [[Complex; S]], cell: &[i16], s: usize) {
-    for (row, &v) in rows.iter_mut().zip(cell) {
+/// Stores the features `values` (Q15) as sample `s` of the pair rows `rows`, Q21: feature
+/// `2p` the real part of row `p`, `2p + 1` its imaginary part (0 past the last).
+fn store<const S: usize>(rows: &mut [[Complex; S]], values: impl Iterator<Item = i16>, s: usize) {
+    let mut values = values.map(|v| i32::from(v) << FEATURE_SHIFT);
+    for row in rows.iter_mut() {
+        let Some(re) = values.next() else { break };
+        let im = values.next().unwrap_or(0);
         if let Some(x) = row.get_mut(s) {
-            *x = Complex::new(i32::from(v) << FEATURE_SHIFT, 0);
+            *x = Complex::new(re, im);
         }
     }
+}
+
+/// The values of `row` at `0, S - 1, S - 2, .., 1`: bin `S - k` (mod `S`) beside bin `k`.
+fn mirrored<T, const S: usize>(row: &[T; S]) -> impl Iterator<Item = &T> {
+    row.iter().take(1).chain(row.iter().skip(1).rev())
 }
 
 /// Undoes a block exponent `e`: `data` times `2^e`, rounded, saturating.
@@ -576,6 +617,7 @@ pub fn pow(step: Q16, x: Q16) -> Q16 {
 mod tests {
     use super::*;
     use crate::rng::Rng;
+    use std::vec;
     use std::vec::Vec;
 
     const SETTINGS: ScaleSettings = ScaleSettings {
@@ -662,8 +704,114 @@ mod tests {
 
     #[test]
     fn its_size_is_stated() {
-        assert_eq!(core::mem::size_of::<ScaleFilter<8>>(), 37_088);
-        assert!(core::mem::size_of::<ScaleFilter<8>>() <= 48 * 1024);
+        assert_eq!(core::mem::size_of::<ScaleFilter<8>>(), 18_664);
+        assert!(core::mem::size_of::<ScaleFilter<8>>() <= 24 * 1024);
+    }
+
+    /// `(re, im)` pairs.
+    type C = (f64, f64);
+
+    fn mul(a: C, b: C) -> C {
+        (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
+    }
+
+    /// The DFT of `x` (`sign` -1 forward, +1 inverse without the `1/N`).
+    fn dft(x: &[C], sign: f64) -> Vec<C> {
+        let n = x.len() as f64;
+        (0..x.len())
+            .map(|k| {
+                x.iter().enumerate().fold((0.0, 0.0), |t, (j, &v)| {
+                    let a = sign * core::f64::consts::TAU * (j * k) as f64 / n;
+                    let p = mul(v, (a.cos(), a.sin()));
+                    (t.0 + p.0, t.1 + p.1)
+                })
+            })
+            .collect()
+    }
+
+    /// The per-feature filter in f64 on the same features (Q15 as 1) and label: one
+    /// transform, numerator `A_d` and `|X_d|^2` per feature, no pairs.
+    struct Reference {
+        num: Vec<Vec<C>>,
+        den: Vec<f64>,
+    }
+
+    impl Reference {
+        fn spectra(rows: &[[i16; 8]], features: usize) -> Vec<Vec<C>> {
+            (0..features)
+                .map(|d| {
+                    let row = rows[d].map(|v| (f64::from(v) / 32768.0, 0.0));
+                    dft(&row, -1.0)
+                })
+                .collect()
+        }
+
+        fn label(f: &ScaleFilter<8>, at: usize) -> Vec<C> {
+            f.label(at)
+                .iter()
+                .map(|y| (f64::from(y.re) / 65536.0, f64::from(y.im) / 65536.0))
+                .collect()
+        }
+
+        fn learn(&mut self, x: &[Vec<C>], y: &[C], eta: f64) {
+            let mut den = [0.0; 8];
+            for (a, x) in self.num.iter_mut().zip(x) {
+                for k in 0..8 {
+                    let new = mul(y[k], (x[k].0, -x[k].1));
+                    a[k] = (
+                        (1.0 - eta) * a[k].0 + eta * new.0,
+                        (1.0 - eta) * a[k].1 + eta * new.1,
+                    );
+                    den[k] += x[k].0 * x[k].0 + x[k].1 * x[k].1;
+                }
+            }
+            for (b, new) in self.den.iter_mut().zip(den) {
+                *b = (1.0 - eta) * *b + eta * new;
+            }
+        }
+
+        fn respond(&self, z: &[Vec<C>], lambda: f64) -> Vec<f64> {
+            let q: Vec<C> = (0..8)
+                .map(|k| {
+                    let s = self.num.iter().zip(z).fold((0.0, 0.0), |t, (a, z)| {
+                        let p = mul(a[k], z[k]);
+                        (t.0 + p.0, t.1 + p.1)
+                    });
+                    let b = self.den[k] + lambda;
+                    (s.0 / b, s.1 / b)
+                })
+                .collect();
+            dft(&q, 1.0).iter().map(|v| v.0 / 8.0).collect()
+        }
+    }
+
+    #[test]
+    fn the_pairs_answer_as_one_filter_per_feature_in_f64() {
+        // 225 features: the last pair's second feature is empty.
+        let (x, z) = (pyramid(0.0, 4), pyramid(0.5, 5));
+        let mut f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &x);
+        let d = f.features();
+        let lambda = f64::from(SETTINGS.lambda) / 2f64.powi(32);
+        let mid = ScaleFilter::<8>::MIDDLE;
+        let mut r = Reference {
+            num: vec![vec![(0.0, 0.0); 8]; d],
+            den: vec![0.0; 8],
+        };
+        let (xs, zs) = (Reference::spectra(&x, d), Reference::spectra(&z, d));
+        r.learn(&xs, &Reference::label(&f, mid), 1.0);
+        let check = |f: &ScaleFilter<8>, want: Vec<f64>| {
+            for (&got, want) in f.response().iter().zip(want) {
+                let got = f64::from(got) / 65536.0;
+                assert!((got - want).abs() < 1e-4, "{:?}", f.response());
+            }
+        };
+        f.respond_features(&z);
+        check(&f, r.respond(&zs, lambda));
+        // A quarter of a label a scale down, learnt from the new samples.
+        f.learn_at(mid - 1, Q16::from_ratio(1, 4));
+        r.learn(&zs, &Reference::label(&f, mid - 1), 0.25);
+        f.respond_features(&x);
+        check(&f, r.respond(&xs, lambda));
     }
 
     #[test]
