@@ -517,6 +517,12 @@ pub fn forward<const N: usize>(data: &mut [Complex; N]) -> i32 {
     transform::<Complex, N>(core::slice::from_mut(data), mag).0
 }
 
+/// The values of `row` at `0, N - 1, N - 2, .., 1`: bin `N - k` (mod `N`) of a spectrum
+/// beside bin `k`, where a real signal's spectrum holds the conjugate of bin `k`.
+pub fn mirrored<T, const N: usize>(row: &[T; N]) -> impl Iterator<Item = &T> {
+    row.iter().take(1).chain(row.iter().skip(1).rev())
+}
+
 /// Inverse transform of `data` in place, `1/N` included; returns the block exponent `e`
 /// (the exact inverse is the output times `2^e`, `-log2 N <= e <= log2 N`). The forward
 /// transform of the conjugate, conjugated: one transform's code serves both.

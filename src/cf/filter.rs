@@ -56,7 +56,7 @@
 //! [`Filter::reset`] retrains one in place.
 
 use super::features::{Cell, CHANNELS};
-use crate::fft::{forward, forward_2d, inverse_2d, Complex};
+use crate::fft::{forward, forward_2d, inverse_2d, mirrored, Complex};
 use crate::fixed::{div_u64_u32, Q16};
 use crate::likelihood::{exp_neg, CostScale};
 use crate::trig::cos_sin_bits;
@@ -254,11 +254,7 @@ impl<const G: usize> Filter<G> {
             let Some(mirror) = self.scratch.get((G - u) % G) else {
                 continue;
             };
-            let mirrored = mirror
-                .first()
-                .into_iter()
-                .chain(mirror.iter().skip(1).rev());
-            for ((d, h), m) in den.iter_mut().zip(h).zip(mirrored) {
+            for ((d, h), m) in den.iter_mut().zip(h).zip(mirrored(mirror)) {
                 let b = blend(*d as i64, h.re as i64 + m.re as i64, eta);
                 *d = b.clamp(0, u32::MAX as i64) as u32;
             }

@@ -49,7 +49,7 @@
 //! hundred more; the filter itself is 18,624 bytes for `S = 8` on a 32-bit target.
 
 use super::features::{self, Cell, Sampling, CHANNELS};
-use crate::fft::{forward, inverse, Complex};
+use crate::fft::{forward, inverse, mirrored, Complex};
 use crate::fixed::{isqrt_u64, Q16};
 use crate::image::{ImageView, PixelFormat};
 use crate::likelihood::exp_neg;
@@ -520,11 +520,6 @@ fn store<const S: usize>(rows: &mut [[Complex; S]], values: impl Iterator<Item =
             *x = Complex::new(re, im);
         }
     }
-}
-
-/// The values of `row` at `0, S - 1, S - 2, .., 1`: bin `S - k` (mod `S`) beside bin `k`.
-fn mirrored<T, const S: usize>(row: &[T; S]) -> impl Iterator<Item = &T> {
-    row.iter().take(1).chain(row.iter().skip(1).rev())
 }
 
 /// Undoes a block exponent `e`: `data` times `2^e`, rounded, saturating.
