@@ -606,6 +606,29 @@ pub fn normalise(data: &mut [Complex]) -> i32 {
     -(k as i32)
 }
 
+/// The exact DFT (forward, or inverse with `1/N`) of `(re, im)` values in f64: the
+/// reference the fixed-point transforms and the filters built on them are tested against.
+#[cfg(test)]
+pub(crate) fn dft_f64(x: &[(f64, f64)], inverse: bool) -> std::vec::Vec<(f64, f64)> {
+    let n = x.len();
+    let sign = if inverse { 1.0 } else { -1.0 };
+    let scale = if inverse { 1.0 / n as f64 } else { 1.0 };
+    (0..n)
+        .map(|k| {
+            x.iter()
+                .enumerate()
+                .fold((0.0, 0.0), |(re, im), (j, &(vr, vi))| {
+                    let t = sign * core::f64::consts::TAU * ((j * k) % n) as f64 / n as f64;
+                    let (c, s) = (t.cos(), t.sin());
+                    (
+                        re + scale * (vr * c - vi * s),
+                        im + scale * (vr * s + vi * c),
+                    )
+                })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -615,22 +638,8 @@ mod tests {
 
     /// The exact DFT (forward or inverse with `1/N`) of `x` in f64.
     fn dft(x: &[Complex], inverse: bool) -> Vec<(f64, f64)> {
-        let n = x.len();
-        let sign = if inverse { 1.0 } else { -1.0 };
-        let scale = if inverse { 1.0 / n as f64 } else { 1.0 };
-        (0..n)
-            .map(|k| {
-                x.iter().enumerate().fold((0.0, 0.0), |(re, im), (j, v)| {
-                    let t = sign * 2.0 * PI * ((j * k) % n) as f64 / n as f64;
-                    let (c, s) = (t.cos(), t.sin());
-                    let (vr, vi) = (v.re as f64, v.im as f64);
-                    (
-                        re + scale * (vr * c - vi * s),
-                        im + scale * (vr * s + vi * c),
-                    )
-                })
-            })
-            .collect()
+        let x: Vec<(f64, f64)> = x.iter().map(|v| (v.re as f64, v.im as f64)).collect();
+        dft_f64(&x, inverse)
     }
 
     /// The bound on random inputs (module doc), LSB.
@@ -818,20 +827,7 @@ mod tests {
         let rows: Vec<Vec<(f64, f64)>> = x.iter().map(|r| dft(r, false)).collect();
         for col in 0..N {
             let column: Vec<(f64, f64)> = rows.iter().map(|r| r[col]).collect();
-            let want: Vec<(f64, f64)> = (0..N)
-                .map(|k| {
-                    column
-                        .iter()
-                        .enumerate()
-                        .fold((0.0, 0.0), |(re, im), (j, v)| {
-                            let t = -2.0 * PI * ((j * k) % N) as f64 / N as f64;
-                            (
-                                re + v.0 * t.cos() - v.1 * t.sin(),
-                                im + v.0 * t.sin() + v.1 * t.cos(),
-                            )
-                        })
-                })
-                .collect();
+            let want = dft_f64(&column, false);
             let got: Vec<Complex> = y.iter().map(|r| r[col]).collect();
             let err = max_error_lsb(&got, e, &want);
             assert!(err <= typical_error_lsb(N * N), "column {col}: {err} LSB");

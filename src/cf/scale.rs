@@ -185,8 +185,9 @@ impl Grid {
 
 /// The scale filter, `S` scales (a power of two, `2..=64`).
 ///
-/// 18,624 bytes for `S = 8` on a 32-bit target (18,664 on a 64-bit host): the numerator and the last samples' spectra, packed in pairs,
-/// `MAX_FEATURES / 2 x S` complex each (9,216 bytes), and `S` values of the rest.
+/// 18,624 bytes for `S = 8` on a 32-bit target (18,664 on a 64-bit host): the numerator
+/// and the last samples' spectra, packed in pairs, `MAX_FEATURES / 2 x S` complex each
+/// (9,216 bytes), and `S` values of the rest.
 #[derive(Clone, Debug)]
 pub struct ScaleFilter<const S: usize> {
     settings: ScaleSettings,
@@ -611,6 +612,7 @@ pub fn pow(step: Q16, x: Q16) -> Q16 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fft::dft_f64;
     use crate::rng::Rng;
     use std::vec;
     use std::vec::Vec;
@@ -710,20 +712,6 @@ mod tests {
         (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
     }
 
-    /// The DFT of `x` (`sign` -1 forward, +1 inverse without the `1/N`).
-    fn dft(x: &[C], sign: f64) -> Vec<C> {
-        let n = x.len() as f64;
-        (0..x.len())
-            .map(|k| {
-                x.iter().enumerate().fold((0.0, 0.0), |t, (j, &v)| {
-                    let a = sign * core::f64::consts::TAU * (j * k) as f64 / n;
-                    let p = mul(v, (a.cos(), a.sin()));
-                    (t.0 + p.0, t.1 + p.1)
-                })
-            })
-            .collect()
-    }
-
     /// The per-feature filter in f64 on the same features (Q15 as 1) and label: one
     /// transform, numerator `A_d` and `|X_d|^2` per feature, no pairs.
     struct Reference {
@@ -736,7 +724,7 @@ mod tests {
             (0..features)
                 .map(|d| {
                     let row = rows[d].map(|v| (f64::from(v) / 32768.0, 0.0));
-                    dft(&row, -1.0)
+                    dft_f64(&row, false)
                 })
                 .collect()
         }
@@ -776,7 +764,7 @@ mod tests {
                     (s.0 / b, s.1 / b)
                 })
                 .collect();
-            dft(&q, 1.0).iter().map(|v| v.0 / 8.0).collect()
+            dft_f64(&q, true).iter().map(|v| v.0).collect()
         }
     }
 
