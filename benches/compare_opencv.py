@@ -5,6 +5,7 @@
     cargo build --release -p rbtrack-host                        # the `rbtrack` binary
     python3 benches/compare_opencv.py --zero-based-sequences ball1_vot15   # ../shared/data
     python3 benches/compare_opencv.py DATA_DIR --seeds 1,2,3 --per-sequence --rbtrack PATH
+    python3 benches/compare_opencv.py ../shared/data ../valset --zero-based-sequences ball1_vot15
     python3 benches/compare_opencv.py --seeds 1,2,3 --starts spatial --peers CSRT \
         --zero-based-sequences ball1_vot15
     pip install ./python    # once, for --in-process: rbtrack's Python module
@@ -14,10 +15,11 @@ Runs OpenCV's CSRT, KCF, MIL and MOSSE (the legacy API of opencv-contrib, `cv2.l
 default parameters), a CamShift baseline (hue histogram of the first box, back-projection,
 `cv2.CamShift`) and `rbtrack track` (RBPF, colour PF, the f64 correlation-filter tracker
 cf64 and the core's integer one cf, over each of `--seeds`; `--rbtrack-trackers` picks
-them) on every sequence,
-and prints one table: success AUC, precision at 20 px and tracking-only milliseconds per
-frame, with rbtrack's time as a ratio to each tracker's, all measured in
-this run.
+them) on every sequence of every data folder given (several as with `rbtrack eval DATA_DIR
+[DATA_DIR...]`; a sequence name may be in one folder only), and prints one table: success
+AUC, precision at 20 px and tracking-only milliseconds per frame, with rbtrack's time as a
+ratio to each tracker's, all measured in this run; with several folders, one block of rows
+per folder and one pooled over all their sequences.
 
 The protocol, one for every tracker and the same as `rbtrack eval`'s:
 - Frames: each sequence's `img/*.jpg|png`, decoded once by rbtrack itself
@@ -43,7 +45,9 @@ The protocol, one for every tracker and the same as `rbtrack eval`'s:
   itself); success AUC is the mean over the IoU thresholds 0, 0.05, ..., 1 (21) of the
   share of frames with IoU strictly above the threshold; precision at 20 px is the share of
   frames whose centre error (centres `x + (w-1)/2, y + (h-1)/2`) is at most 20 px. The
-  table's figures are means over sequences; rbtrack's are first averaged over its seeds.
+  table's figures are means over sequences (each folder's, and with several folders the
+  pooled mean, every sequence weighing the same); rbtrack's are first averaged over its
+  seeds.
 - ms/frame: time inside the tracker's update (OpenCV: `tracker.update(frame)`; CamShift:
   HSV conversion, back-projection and `cv2.CamShift`; rbtrack: its own `ms_per_frame`,
   time inside `Tracker::step`), reading excluded, averaged over the frames after the first;
@@ -322,7 +326,8 @@ def find_rbtrack(arg):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("data", nargs="?", default=str(REPO.parent / "shared" / "data"))
+    parser.add_argument("data", nargs="*", default=[str(REPO.parent / "shared" / "data")],
+                        help="folders of sequence folders (default ../shared/data)")
     parser.add_argument("--rbtrack", help="path of the rbtrack binary")
     parser.add_argument("--particles", type=int, default=100)
     parser.add_argument("--seeds", default="1", help="rbtrack's seeds, comma-separated (default 1)")
@@ -347,14 +352,23 @@ def main():
                         help="rbtrack's trackers, comma-separated (default rbpf,pf,cf64,cf)")
     args = parser.parse_args()
 
-    data = Path(args.data)
-    if not data.is_dir():
-        sys.exit(f"compare_opencv.py: no data folder {data}")
+    folders = [Path(d) for d in args.data]
+    for data in folders:
+        if not data.is_dir():
+            sys.exit(f"compare_opencv.py: no data folder {data}")
+    sets = [list(sequences(data)) for data in folders]  # each folder's sequences
+    seen = {}
+    for seq in (seq for set_ in sets for seq in set_):
+        if seq.name in seen:
+            sys.exit(f"compare_opencv.py: sequence {seq.name} is in two data folders: "
+                     f"{seen[seq.name]} and {seq}")
+        seen[seq.name] = seq
+    listed = ", ".join(str(data) for data in folders)
     seeds = [int(s) for s in args.seeds.split(",") if s.strip()]
     zero_named = {n.strip() for n in args.zero_based_sequences.split(",") if n.strip()}
-    missing = zero_named - {seq.name for seq in sequences(data)}
+    missing = zero_named - set(seen)
     if missing:
-        sys.exit(f"compare_opencv.py: --zero-based-sequences: no sequence {sorted(missing)} in {data}")
+        sys.exit(f"compare_opencv.py: --zero-based-sequences: no sequence {sorted(missing)} in {listed}")
     binary = find_rbtrack(args.rbtrack)  # `rbtrack frames` decodes for every tracker
     if args.in_process:
         try:
@@ -377,7 +391,7 @@ def main():
     names = [f"rbtrack-{t}" for t in ours] + list(peers)
     rows = {n: [] for n in names}  # per sequence: (sequence, auc, prec20, ms)
     by_start = {n: {s[0]: [] for s in starts} for n in names}  # per start: AUC per sequence
-    for seq in sequences(data):
+    for seq in (seq for set_ in sets for seq in set_):
         zero_based = args.zero_based or seq.name in zero_named
         first = read_boxes(seq / "groundtruth_rect.txt")[0]  # in the file's convention
         truth = [to_zero_based(b, zero_based) for b in read_boxes(seq / "groundtruth_rect.txt")]
@@ -430,50 +444,82 @@ def main():
             )
         print(f"{seq.name}: done", file=sys.stderr)
 
-    mean = {
-        n: tuple(statistics.fmean(r[i] for r in rows[n]) for i in (1, 2, 3)) if rows[n] else (0, 0, 0)
-        for n in names
-    }
-    start_means = {n: {k: statistics.fmean(v) for k, v in by_start[n].items() if v} for n in names}
+    def means(part):
+        """Per tracker, the means over the sequences `part` (a slice of the rows): (AUC,
+        prec@20, ms/frame), and the AUC per start."""
+        mean = {
+            n: tuple(statistics.fmean(r[i] for r in rows[n][part]) for i in (1, 2, 3))
+            if rows[n][part] else (0, 0, 0)
+            for n in names
+        }
+        start_means = {
+            n: {k: statistics.fmean(v[part]) for k, v in by_start[n].items() if v[part]}
+            for n in names
+        }
+        return mean, start_means
+
+    # (label, sequences, means): each folder's, then with several folders the pooled.
+    groups, offset = [], 0
+    for data, set_ in zip(folders, sets):
+        groups.append((str(data), len(set_), means(slice(offset, offset + len(set_)))))
+        offset += len(set_)
+    pooled = means(slice(None))
+    shown = groups + [("all", offset, pooled)] if len(groups) > 1 else [(None, offset, pooled)]
     first = names[0]  # the time ratios are this tracker's time over each one's
-    rb_ms = mean[first][2]
+
+    def as_json(mean):
+        return {n: dict(zip(("auc", "prec20", "ms_per_frame"), mean[n])) for n in names}
+
     if args.json:
-        print(json.dumps({"data": str(data), "particles": args.particles, "seeds": seeds,
+        print(json.dumps({**({"data": str(folders[0])} if len(folders) == 1 else {}),
+                          "data_dirs": [str(data) for data in folders],
+                          "particles": args.particles, "seeds": seeds,
                           "starts": [s[0] for s in starts],
-                          "mean_auc_per_start": start_means,
+                          "mean_auc_per_start": pooled[1],
                           "zero_based": args.zero_based,
                           "zero_based_sequences": sorted(zero_named),
                           "opencv": cv2.__version__, "threads": args.threads,
                           "rbtrack_in_process": args.in_process,
                           "sequences": {n: rows[n] for n in names},
-                          "mean": {n: dict(zip(("auc", "prec20", "ms_per_frame"), mean[n]))
-                                   for n in names}}, indent=1))
+                          "mean": as_json(pooled[0]),
+                          "sets": [{"data": label, "sequences": count, "mean": as_json(m),
+                                    "mean_auc_per_start": sm}
+                                   for label, count, (m, sm) in groups]}, indent=1))
         return
+    counts = f" ({' + '.join(str(len(set_)) for set_ in sets)})" if len(sets) > 1 else ""
+    scope = ("means over sequences" if len(sets) == 1
+             else "means over each folder's sequences and over all of them")
     print(
-        f"{data}: {len(rows[first])} sequences; OpenCV {cv2.__version__} on {args.threads} "
+        f"{listed}: {offset} sequences{counts}; OpenCV {cv2.__version__} on {args.threads} "
         f"thread(s); rbtrack {'in process (Python module)' if args.in_process else 'by rbtrack track'}; "
         f"rbtrack N = {args.particles}, seeds {args.seeds} (mean); "
         f"{len(starts)} start(s) per tracker (mean); boxes "
         f"{'0-based' if args.zero_based else '1-based'}"
         f"{' except ' + ', '.join(sorted(zero_named)) if zero_named else ''}; "
-        f"means over sequences"
+        f"{scope}"
     )
     print()
     print(f"{'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}  {first} time / this")
     print("-" * 66)
-    for n in names:
-        auc, prec, ms = mean[n]
-        ratio = rb_ms / ms if ms > 0 else math.inf
-        share = f"{ratio:8.3f}  (1/{1 / ratio:.0f})" if 0 < ratio < 1 else f"{ratio:8.3f}"
-        print(f"{n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}  {share}")
+    for label, count, (mean, _) in shown:
+        if label:
+            print(f"{label} ({count} sequences)")
+        for n in names:
+            auc, prec, ms = mean[n]
+            ratio = mean[first][2] / ms if ms > 0 else math.inf
+            share = f"{ratio:8.3f}  (1/{1 / ratio:.0f})" if 0 < ratio < 1 else f"{ratio:8.3f}"
+            print(f"{n:14} {auc:6.3f} {prec:8.3f} {ms:9.3f}  {share}")
     if len(starts) > 1:
         print()
         print("mean AUC per start (over sequences" + (" and seeds" if len(seeds) > 1 else "") + ")")
         print(f"{'tracker':14} " + " ".join(f"{s[0]:>9}" for s in starts) + "  perturbed")
-        for n in names:
-            per = start_means[n]
-            perturbed = statistics.fmean(per[s[0]] for s in starts[1:])
-            print(f"{n:14} " + " ".join(f"{per[s[0]]:9.3f}" for s in starts) + f"  {perturbed:9.3f}")
+        for label, count, (_, start_means) in shown:
+            if label:
+                print(f"{label} ({count} sequences)")
+            for n in names:
+                per = start_means[n]
+                perturbed = statistics.fmean(per[s[0]] for s in starts[1:])
+                print(f"{n:14} " + " ".join(f"{per[s[0]]:9.3f}" for s in starts) + f"  {perturbed:9.3f}")
     if args.per_sequence:
         print()
         print(f"{'sequence':16} {'tracker':14} {'AUC':>6} {'prec@20':>8} {'ms/frame':>9}")

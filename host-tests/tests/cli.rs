@@ -1082,6 +1082,108 @@ fn eval_two_sequences() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// `eval` over two data folders: one table of their sequences, each folder's mean and the
+/// pooled mean (the mean over all sequences), per folder in the JSON's `sets`; a sequence
+/// name in both folders is an error.
+#[test]
+fn eval_two_folders() {
+    let dir = temp_dir("folders");
+    let (dev, val) = (dir.join("dev"), dir.join("val"));
+    write_sequence(&dev.join("Beta"), 41);
+    write_sequence(&dev.join("Alpha"), 42);
+    let gamma = write_sequence(&val.join("Gamma"), 43);
+    rewrite_zero_based(&val.join("Gamma"), &gamma);
+    let common = [
+        "eval",
+        path(&dev),
+        path(&val),
+        "--zero-based-sequences",
+        "Gamma",
+    ];
+
+    let doc = json(&rbtrack(&[&common[..], &["--json"]].concat()));
+    assert_eq!(
+        doc["data_dirs"],
+        serde_json::json!([path(&dev), path(&val)])
+    );
+    assert!(doc.get("data_dir").is_none(), "{doc}");
+    let aucs: Vec<f64> = doc["sequences"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["auc"].as_f64().unwrap())
+        .collect();
+    let names: Vec<&str> = doc["sequences"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["sequence"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["Alpha", "Beta", "Gamma"]);
+    let mean_of = |aucs: &[f64]| aucs.iter().sum::<f64>() / aucs.len() as f64;
+    let sets = doc["sets"].as_array().unwrap();
+    assert_eq!(sets.len(), 2);
+    for (set, (folder, aucs)) in sets.iter().zip([(&dev, &aucs[..2]), (&val, &aucs[2..])]) {
+        assert_eq!(set["data_dir"], path(folder));
+        assert_eq!(set["sequences"], aucs.len());
+        let auc = set["mean"][0]["auc"].as_f64().unwrap();
+        assert!((auc - mean_of(aucs)).abs() < 1e-12, "{set}");
+    }
+    let pooled = &doc["mean"][0];
+    assert_eq!(pooled["sequences"], 3);
+    assert_eq!(pooled["frames"], 3 * FRAMES);
+    assert!(
+        (pooled["auc"].as_f64().unwrap() - mean_of(&aucs)).abs() < 1e-12,
+        "{pooled}"
+    );
+
+    // The table: the three sequences, each folder's mean row, the pooled one; the loss
+    // table likewise.
+    let o = rbtrack(&[&common[..], &["--out", path(&dir.join("plots"))]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.starts_with(&format!(
+            "{}, {}: 3 sequences (2 + 1);",
+            path(&dev),
+            path(&val)
+        )),
+        "{text}"
+    );
+    // The cells after a row's label (its first cell), in the first table that has it.
+    let row = |label: &str| -> Vec<&str> {
+        let line = text
+            .lines()
+            .find(|l| l.split("  ").next() == Some(label))
+            .unwrap_or_else(|| panic!("no row {label:?} in {text}"));
+        line[label.len()..].split_whitespace().collect()
+    };
+    for (scope, frames, mean) in [
+        (format!(" {}", path(&dev)), 2 * FRAMES, &sets[0]["mean"][0]),
+        (format!(" {}", path(&val)), FRAMES, &sets[1]["mean"][0]),
+        (String::new(), 3 * FRAMES, pooled),
+    ] {
+        let auc = format!("{:.3}", mean["auc"].as_f64().unwrap());
+        let cells = row(&format!("mean{scope}"));
+        assert_eq!(
+            cells[..3],
+            ["cf", frames.to_string().as_str(), auc.as_str()]
+        );
+        assert_eq!(row(&format!("all{scope}"))[0], "cf", "{scope}");
+    }
+
+    // A sequence name in both folders.
+    write_sequence(&val.join("Alpha"), 44);
+    let o = rbtrack(&["eval", path(&dev), path(&val)]);
+    assert_one_line_error(&o, "a name in both folders", path(&dev.join("Alpha")));
+    assert!(
+        stderr(&o).contains(path(&val.join("Alpha"))),
+        "{}",
+        stderr(&o)
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// `frames`: the sequence's frames as one RGB888 dump, the PNGs' pixels exactly, which
 /// `track --raw` tracks as it tracks the folder.
 #[test]

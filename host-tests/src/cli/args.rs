@@ -24,6 +24,7 @@ const EXAMPLES: &str = "Examples:
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --starts spatial
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --camera pan-known
   rbtrack eval ../shared/data --tracker cf64 --starts spatial --set cf.grid=16
+  rbtrack eval ../shared/data ../valset --tracker cf --starts spatial --zero-based-sequences ball1_vot15
   rbtrack follow ../shared/data/Woman
   rbtrack frames ../shared/data/Crossing out/Crossing.rgb
   rbtrack paper --runs 10";
@@ -54,8 +55,9 @@ pub enum Command {
     /// or a raw frame dump (--raw)
     #[command(allow_negative_numbers = true)]
     Track(TrackArgs),
-    /// Track every sequence folder of DATA_DIR, over one or more seeds: one row per
-    /// sequence and tracker, the mean over sequences, success and precision plots
+    /// Track every sequence folder of each DATA_DIR, over one or more seeds: one row per
+    /// sequence and tracker, the mean over sequences (with several folders: each folder's
+    /// and the pooled mean), success and precision plots
     #[command(allow_negative_numbers = true)]
     Eval(EvalArgs),
     /// Follow a target with a camera on a pan/tilt head, in closed loop: a virtual camera
@@ -302,9 +304,11 @@ impl Starts {
 /// Options of `rbtrack eval`.
 #[derive(Debug, Args)]
 pub struct EvalArgs {
-    /// Folder of sequence folders (OTB layout each)
-    #[arg(value_name = "DATA_DIR")]
-    pub data: PathBuf,
+    /// Folders of sequence folders (OTB layout each); with several, all their sequences
+    /// run together and the means are given per folder and pooled (each sequence weighing
+    /// the same); a sequence name may be in one folder only
+    #[arg(value_name = "DATA_DIR", required = true)]
+    pub data: Vec<PathBuf>,
     /// Trackers: rbpf, pf, both (the particle filters), cf (the correlation-filter tracker),
     /// cf64 (its f64 reference) or all [default: cf, or the configuration's variant]
     #[arg(long, value_enum, value_name = "T")]
@@ -338,7 +342,7 @@ pub struct EvalArgs {
     #[command(flatten)]
     pub convention: Convention,
     /// Sequences whose ground truth counts pixels from 0, comma-separated folder names
-    /// (e.g. ball1_vot15)
+    /// (e.g. ball1_vot15), each in some DATA_DIR
     #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub zero_based_sequences: Vec<String>,
     /// Write the plots into DIR (success.png, precision.png, per tracker with both)

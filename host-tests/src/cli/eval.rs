@@ -1,10 +1,12 @@
-//! `rbtrack eval`: every tracker and seed over every sequence of a folder. Each sequence's
-//! frames are decoded once for all its runs, and the sequences run in parallel, one
-//! thread per available core.
+//! `rbtrack eval`: every tracker and seed over every sequence of one or more folders, with
+//! each folder's mean and the pooled one. Each sequence's frames are decoded once for all
+//! its runs, and the sequences of all folders run in parallel, one thread per available
+//! core.
 
 use super::args::EvalArgs;
 use super::report::{
-    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, MeanRow, SequenceRow,
+    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, MeanGroup, MeanRow,
+    SequenceRow,
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
@@ -33,7 +35,10 @@ const PLOTS: &str = "out/eval";
 /// `eval`'s JSON document.
 #[derive(Serialize)]
 struct EvalJson<'a> {
-    data_dir: String,
+    /// The data folder, with one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    data_dir: Option<String>,
+    data_dirs: Vec<String>,
     particles: usize,
     bins: Bins,
     seeds: &'a [u64],
@@ -51,8 +56,20 @@ struct EvalJson<'a> {
     /// (`cf64::cost`), when it runs.
     cf64_cost: Option<Cf64Cost>,
     sequences: &'a [SequenceRow],
+    /// The mean over all sequences.
     mean: &'a [MeanRow],
+    /// Each data folder's mean.
+    sets: Vec<SetJson<'a>>,
     seconds: f64,
+}
+
+/// One data folder's part of `eval`'s JSON document.
+#[derive(Serialize)]
+struct SetJson<'a> {
+    data_dir: String,
+    /// Sequences tracked.
+    sequences: usize,
+    mean: &'a [MeanRow],
 }
 
 /// The cost model's estimate of a cf64 configuration.
@@ -111,12 +128,27 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         }
     }
 
-    let dirs = sequence_dirs(&args.data)?;
+    let folders = args
+        .data
+        .iter()
+        .map(|d| sequence_dirs(d))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut seen = BTreeMap::new();
+    for dir in folders.iter().flatten() {
+        if let Some(first) = seen.insert(folder_name(dir), dir) {
+            return Err(fail(format!(
+                "sequence {:?} is in two data folders: {} and {}",
+                folder_name(dir),
+                first.display(),
+                dir.display()
+            )));
+        }
+    }
     for name in &args.zero_based_sequences {
-        if !dirs.iter().any(|d| folder_name(d) == *name) {
+        if !seen.contains_key(name) {
             return Err(fail(format!(
                 "--zero-based-sequences: no sequence folder {name:?} in {}",
-                args.data.display()
+                listed(&args.data)
             )));
         }
     }
@@ -125,24 +157,31 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         eprintln!("rbtrack eval: skipping {}: {e}", name.display());
         all_ok = false;
     };
-    let mut seqs = Vec::new();
-    for dir in dirs {
-        let origin = if args.zero_based_sequences.contains(&folder_name(&dir)) {
-            GtOrigin::ZeroBased
-        } else {
-            args.convention.origin()
-        };
-        match Sequence::open(&dir, origin) {
-            Ok(s) => seqs.push(s),
-            Err(e) => skip(&dir, &e),
+    // The sequences, folder by folder, and the index of each one's folder.
+    let (mut seqs, mut folder_of) = (Vec::new(), Vec::new());
+    for (k, (data, dirs)) in args.data.iter().zip(folders).enumerate() {
+        let opened = seqs.len();
+        for dir in dirs {
+            let origin = if args.zero_based_sequences.contains(&folder_name(&dir)) {
+                GtOrigin::ZeroBased
+            } else {
+                args.convention.origin()
+            };
+            match Sequence::open(&dir, origin) {
+                Ok(s) => {
+                    seqs.push(s);
+                    folder_of.push(k);
+                }
+                Err(e) => skip(&dir, &e),
+            }
         }
-    }
-    if seqs.is_empty() {
-        return Err(fail(format!(
-            "no usable sequence folders (with img/ and {}) in {}",
-            sequence::GROUNDTRUTH_FILE,
-            args.data.display()
-        )));
+        if seqs.len() == opened {
+            return Err(fail(format!(
+                "no usable sequence folders (with img/ and {}) in {}",
+                sequence::GROUNDTRUTH_FILE,
+                data.display()
+            )));
+        }
     }
 
     let bar = progress_bar(Some(seqs.iter().map(|s| s.len() as u64).sum()), "eval");
@@ -158,15 +197,29 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     let outcomes = run_in_parallel(&seqs, &plan);
     bar.finish_and_clear();
     let mut results = Vec::new();
-    for (seq, outcome) in seqs.iter().zip(outcomes) {
+    let mut tracked = vec![0; args.data.len()];
+    for ((seq, &k), outcome) in seqs.iter().zip(&folder_of).zip(outcomes) {
         match outcome {
-            Ok(r) => results.push(r),
+            Ok(r) => {
+                results.push(r);
+                tracked[k] += 1;
+            }
             Err(e) => skip(&seq.dir, &e),
         }
     }
     if results.is_empty() {
         return Err(fail("no sequence could be tracked"));
     }
+    // Each folder's results: consecutive in `results`.
+    let mut rest = &results[..];
+    let sets: Vec<&[SequenceResult]> = tracked
+        .iter()
+        .map(|&n| {
+            let (set, tail) = rest.split_at(n);
+            rest = tail;
+            set
+        })
+        .collect();
 
     let mut written = Vec::new();
     if let Some(dir) = &args.boxes {
@@ -196,7 +249,21 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     }
 
     let rows = sequence_rows(&results, &trackers);
-    let means = mean_rows(&results, &trackers, &seeds, starts);
+    // Each folder's mean rows, then the pooled ones.
+    let mut groups: Vec<MeanGroup> = args
+        .data
+        .iter()
+        .zip(&sets)
+        .map(|(dir, set)| MeanGroup {
+            scope: format!(" {}", dir.display()),
+            rows: mean_rows(set, &trackers, &seeds, starts),
+        })
+        .collect();
+    groups.push(MeanGroup {
+        scope: String::new(),
+        rows: mean_rows(&results, &trackers, &seeds, starts),
+    });
+    let pooled = &groups[sets.len()].rows;
     let seconds = started.elapsed().as_secs_f64();
     if args.json {
         let config = specs
@@ -205,7 +272,11 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
             .map(|s| (s.tracker.name(), settings_json(s)))
             .collect();
         let doc = EvalJson {
-            data_dir: args.data.display().to_string(),
+            data_dir: match &args.data[..] {
+                [one] => Some(one.display().to_string()),
+                _ => None,
+            },
+            data_dirs: args.data.iter().map(|d| d.display().to_string()).collect(),
             particles: args.config.particles,
             bins: args.config.bins,
             seeds: &seeds,
@@ -224,25 +295,41 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
                 }
             }),
             sequences: &rows,
-            mean: &means,
+            mean: pooled,
+            sets: args
+                .data
+                .iter()
+                .zip(&sets)
+                .zip(&groups)
+                .map(|((dir, set), g)| SetJson {
+                    data_dir: dir.display().to_string(),
+                    sequences: set.len(),
+                    mean: &g.rows,
+                })
+                .collect(),
             seconds,
         };
         let text = serde_json::to_string(&doc).map_err(fail)?;
         emit(out, &format!("{text}\n"))?;
     } else {
-        emit(out, &header(args, &results, &trackers, &seeds, &specs))?;
-        let shown_means = if results.len() > 1 { &means[..] } else { &[] };
+        emit(out, &header(args, &sets, &trackers, &seeds, &specs))?;
+        // One folder's mean is the pooled one, shown once.
+        let shown = &groups[if sets.len() > 1 { 0 } else { 1 }..];
         emit(
             out,
-            &sequence_table(&rows, shown_means, specs.len() > trackers.len()),
+            &sequence_table(
+                &rows,
+                if results.len() > 1 { shown } else { &[] },
+                specs.len() > trackers.len(),
+            ),
         )?;
         if seeds.len() > 1 {
-            emit(out, &per_seed_means(&means))?;
+            emit(out, &per_seed_means(shown))?;
         }
         if starts.len() > 1 {
-            emit(out, &per_start_means(&means))?;
+            emit(out, &per_start_means(shown))?;
         }
-        emit(out, &loss_table(&rows, &means))?;
+        emit(out, &loss_table(&rows, shown))?;
     }
     if !args.json || args.plots || args.out.is_some() {
         let dir = args.out.clone().unwrap_or_else(|| PathBuf::from(PLOTS));
@@ -265,25 +352,41 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     Ok(all_ok)
 }
 
-/// The lines above `eval`'s table: what ran, with which configuration.
+/// The data folders, comma-separated.
+fn listed(dirs: &[PathBuf]) -> String {
+    let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+    shown.join(", ")
+}
+
+/// The lines above `eval`'s table: what ran, on which folders' `sets` of results, with
+/// which configuration.
 fn header(
     args: &EvalArgs,
-    results: &[SequenceResult],
+    sets: &[&[SequenceResult]],
     trackers: &[TrackerKind],
     seeds: &[u64],
     specs: &[RunSpec],
 ) -> String {
     let names: Vec<&str> = trackers.iter().map(|t| t.name()).collect();
     let seeds_text: Vec<String> = seeds.iter().map(u64::to_string).collect();
+    let counts: Vec<String> = sets.iter().map(|s| s.len().to_string()).collect();
     let mut text = format!(
-        "{}: {} sequences; {}, {} particles, seed{} {}, {}; mean over sequences",
-        args.data.display(),
-        results.len(),
+        "{}: {} sequences{}; {}, {} particles, seed{} {}, {}; {}",
+        listed(&args.data),
+        sets.iter().map(|s| s.len()).sum::<usize>(),
+        match &counts[..] {
+            [_] => String::new(),
+            _ => format!(" ({})", counts.join(" + ")),
+        },
         names.join(" and "),
         args.config.particles,
         if seeds.len() > 1 { "s" } else { "" },
         seeds_text.join(", "),
-        args.format
+        args.format,
+        match sets {
+            [_] => "mean over sequences",
+            _ => "means over each folder's sequences and over all of them",
+        }
     );
     let starts = specs.len() / (seeds.len() * trackers.len()).max(1);
     if starts > 1 {
@@ -325,27 +428,34 @@ fn header(
     text + "\n"
 }
 
-/// The set's mean AUC of each seed, one line per tracker.
-fn per_seed_means(means: &[MeanRow]) -> String {
-    let mut text = String::from("\nmean AUC per seed:");
-    for m in means {
+/// One line per group: `what{scope}: ` and `part` of each of its rows, `; `-separated.
+fn group_lines(groups: &[MeanGroup], what: &str, part: impl Fn(&MeanRow) -> String) -> String {
+    let mut text = String::new();
+    for g in groups {
+        let parts: Vec<String> = g.rows.iter().map(&part).collect();
+        text += &format!("{what}{}: {}\n", g.scope, parts.join("; "));
+    }
+    text
+}
+
+/// Each group's mean AUC of each seed, per tracker.
+fn per_seed_means(groups: &[MeanGroup]) -> String {
+    let lines = group_lines(groups, "mean AUC per seed", |m| {
         let per_seed: Vec<String> = m
             .scores
             .per_seed
             .iter()
             .map(|s| format!("{} {:.3}", s.seed, s.scores.auc.unwrap_or(f64::NAN)))
             .collect();
-        text += &format!(" {}: {};", m.tracker, per_seed.join(", "));
-    }
-    text.pop();
-    text + "\n"
+        format!("{}: {}", m.tracker, per_seed.join(", "))
+    });
+    format!("\n{lines}")
 }
 
-/// The set's mean AUC from each start (over seeds), one line per tracker, and the mean
-/// over the perturbed starts.
-fn per_start_means(means: &[MeanRow]) -> String {
-    let mut text = String::from("mean AUC per start:");
-    for m in means {
+/// Each group's mean AUC from each start (over seeds), per tracker, and the mean over the
+/// perturbed starts.
+fn per_start_means(groups: &[MeanGroup]) -> String {
+    group_lines(groups, "mean AUC per start", |m| {
         let per_start: Vec<String> = m
             .per_start
             .iter()
@@ -358,14 +468,12 @@ fn per_start_means(means: &[MeanRow]) -> String {
             .filter_map(|s| s.scores.auc)
             .collect();
         let mean = perturbed.iter().sum::<f64>() / perturbed.len().max(1) as f64;
-        text += &format!(
-            " {}: {}, perturbed mean {mean:.3};",
+        format!(
+            "{}: {}, perturbed mean {mean:.3}",
             m.tracker,
             per_start.join(", ")
-        );
-    }
-    text.pop();
-    text + "\n"
+        )
+    })
 }
 
 /// Evaluates every sequence of `seqs` with `plan`, on as many threads as there are cores

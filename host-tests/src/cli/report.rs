@@ -145,6 +145,15 @@ pub struct MeanRow {
     pub loss: LossReport,
 }
 
+/// The mean rows of a group of sequences: all those evaluated (`scope` empty), or one data
+/// folder's (`scope` " FOLDER"); the tables label the rows `mean{scope}` and `all{scope}`.
+pub struct MeanGroup {
+    /// What the labels end with.
+    pub scope: String,
+    /// One row per tracker.
+    pub rows: Vec<MeanRow>,
+}
+
 /// One row per sequence and tracker (in `trackers` order), over each tracker's seeds.
 pub fn sequence_rows(results: &[SequenceResult], trackers: &[TrackerKind]) -> Vec<SequenceRow> {
     let mut rows = Vec::new();
@@ -305,10 +314,10 @@ fn score_header(spread: bool) -> Vec<&'static str> {
     header
 }
 
-/// The table of `track` and `eval`: one row per sequence and tracker, then the `mean`
-/// rows; with `spread`, each AUC's lowest and highest over the seeds (for `mean`: of the
-/// set's mean per seed).
-pub fn sequence_table(rows: &[SequenceRow], means: &[MeanRow], spread: bool) -> String {
+/// The table of `track` and `eval`: one row per sequence and tracker, then each group's
+/// `mean` rows; with `spread`, each AUC's lowest and highest over the seeds (for `mean`:
+/// of the set's mean per seed).
+pub fn sequence_table(rows: &[SequenceRow], means: &[MeanGroup], spread: bool) -> String {
     let range = |s: &OverSeeds| spread.then_some([s.auc_min, s.auc_max]);
     let mut cells = Vec::new();
     for r in rows {
@@ -320,10 +329,16 @@ pub fn sequence_table(rows: &[SequenceRow], means: &[MeanRow], spread: bool) -> 
         row.extend(score_cells(&r.scores.mean, range(&r.scores)));
         cells.push(row);
     }
-    for m in means {
-        let mut row = vec!["mean".into(), m.tracker.to_string(), m.frames.to_string()];
-        row.extend(score_cells(&m.scores.mean, range(&m.scores)));
-        cells.push(row);
+    for g in means {
+        for m in &g.rows {
+            let mut row = vec![
+                format!("mean{}", g.scope),
+                m.tracker.to_string(),
+                m.frames.to_string(),
+            ];
+            row.extend(score_cells(&m.scores.mean, range(&m.scores)));
+            cells.push(row);
+        }
     }
     let mut header = vec!["sequence", "tracker", "frames"];
     header.extend(score_header(spread));
@@ -379,11 +394,11 @@ pub fn plot_pair(
     Ok(vec![sp, pp])
 }
 
-/// The loss-detection table: per sequence and tracker, then per tracker over the set,
+/// The loss-detection table: per sequence and tracker, then per group and tracker,
 /// the share of lost frames, the confidence's ROC AUC as a loss detector, the losses, the
 /// share flagged in time, the good frames flagged `Lost`, failures per run and frames to
 /// recover ([`crate::loss`]).
-pub fn loss_table(rows: &[SequenceRow], means: &[MeanRow]) -> String {
+pub fn loss_table(rows: &[SequenceRow], means: &[MeanGroup]) -> String {
     let header = [
         "sequence",
         "tracker",
@@ -413,7 +428,13 @@ pub fn loss_table(rows: &[SequenceRow], means: &[MeanRow]) -> String {
         .iter()
         .map(|r| cells(&r.sequence, r.tracker, &r.loss))
         .collect();
-    table.extend(means.iter().map(|m| cells("all", m.tracker, &m.loss)));
+    for g in means {
+        table.extend(
+            g.rows
+                .iter()
+                .map(|m| cells(&format!("all{}", g.scope), m.tracker, &m.loss)),
+        );
+    }
     format!(
         "\nloss detection (a frame is lost at IoU < {LOST_IOU}, good at IoU >= {GOOD_IOU}; a loss \
          is {FLAG_WITHIN}+ lost frames, flagged if `Lost` within its first {FLAG_WITHIN}; a \
