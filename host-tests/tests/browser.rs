@@ -6,9 +6,10 @@
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`), Node with the harness's
 //! packages (`npm ci --prefix web/test`), the `wasm32-unknown-unknown` target and the
-//! shared sequences; without one of them the test says which and passes without running
-//! (fails, with `RBTRACK_REQUIRE_BROWSER` set as CI sets it, for a missing tool). The screenshots and the
-//! boxes stay in `target/browser/`.
+//! shared sequences. Without Chromium or the packages the test is ignored, and the build
+//! warns which is missing and how to install it (`build.rs`); without another of them it
+//! says which and passes without running. With `RBTRACK_REQUIRE_BROWSER` set, as CI sets
+//! it, a missing tool fails it. The screenshots and the boxes stay in `target/browser/`.
 
 use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence, GROUNDTRUTH_FILE};
 use rbtrack_web::{cf_firmware_checksum, firmware_checksum};
@@ -58,6 +59,10 @@ fn run(command: &mut Command) -> String {
 }
 
 #[test]
+#[cfg_attr(
+    no_browser,
+    ignore = "needs Chromium and `npm ci --prefix web/test` (the build's warning says which is missing)"
+)]
 fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     if let Some(why) = missing() {
         assert!(
