@@ -179,14 +179,14 @@ typedef enum {
   RBT_FORMAT_UYVY = 7,
 } rbt_format;
 
-// How sure the tracker is of its estimate.
+// How sure the tracker is of its estimate, numbered from least to most sure.
 typedef enum {
   // Confidence below `lost_below`: the target is hidden or gone; the tracker searches.
   RBT_STATUS_LOST = 0,
-  // Confidence at or above `uncertain_below`.
-  RBT_STATUS_TRACKING = 1,
   // Confidence in `[lost_below, uncertain_below)`: the tracker searches too.
-  RBT_STATUS_UNCERTAIN = 2,
+  RBT_STATUS_UNCERTAIN = 1,
+  // Confidence at or above `uncertain_below`.
+  RBT_STATUS_TRACKING = 2,
 } rbt_status;
 
 // Which filter runs (`rbt_config.variant`).
@@ -513,7 +513,7 @@ extern "C" {
 
 // The name and meaning of an `rbt_error` code, as a static NUL-terminated string (never
 // null; "unknown" for a code that is none).
-const char *rbt_error_name(int32_t code);
+const char *rbt_error_name(rbt_error code);
 
 // Writes the defaults of `variant` (an `rbt_variant`) to `config`: the core's
 // `Config::new`, tuned on real video.

@@ -224,10 +224,15 @@ fn code<E: Into<rbt_error>>(result: Result<(), E>) -> rbt_error {
     result.map_or_else(Into::into, |()| RBT_OK)
 }
 
+/// An `rbt_error` passed from C, where an enum may hold any value of its integer type: read
+/// as that integer, so that a value no code has is no undefined behaviour. The header
+/// calls it `rbt_error` (cbindgen.toml renames it).
+pub type rbt_error_code = i32;
+
 /// The name and meaning of an `rbt_error` code, as a static NUL-terminated string (never
 /// null; "unknown" for a code that is none).
 #[no_mangle]
-pub extern "C" fn rbt_error_name(code: i32) -> *const c_char {
+pub extern "C" fn rbt_error_name(code: rbt_error_code) -> *const c_char {
     let known = rbt_error::ALL.into_iter().find(|&e| e as i32 == code);
     known
         .map_or(c"unknown rbt_error code", rbt_error::name)
@@ -329,16 +334,16 @@ unsafe fn ellipse(rect: *const rbt_rect) -> Result<Ellipse, rbt_error> {
         .ok_or(RBT_ERR_NULL)
 }
 
-/// How sure the tracker is of its estimate.
+/// How sure the tracker is of its estimate, numbered from least to most sure.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum rbt_status {
     /// Confidence below `lost_below`: the target is hidden or gone; the tracker searches.
     RBT_STATUS_LOST = 0,
-    /// Confidence at or above `uncertain_below`.
-    RBT_STATUS_TRACKING = 1,
     /// Confidence in `[lost_below, uncertain_below)`: the tracker searches too.
-    RBT_STATUS_UNCERTAIN = 2,
+    RBT_STATUS_UNCERTAIN = 1,
+    /// Confidence at or above `uncertain_below`.
+    RBT_STATUS_TRACKING = 2,
 }
 
 /// Where the target is after a step.
@@ -385,8 +390,8 @@ impl From<Estimate> for rbt_estimate {
             confidence: e.confidence.to_bits(),
             status: match e.status {
                 Status::Lost => rbt_status::RBT_STATUS_LOST,
-                Status::Tracking => rbt_status::RBT_STATUS_TRACKING,
                 Status::Uncertain => rbt_status::RBT_STATUS_UNCERTAIN,
+                Status::Tracking => rbt_status::RBT_STATUS_TRACKING,
             } as u32,
         }
     }
@@ -397,8 +402,8 @@ impl rbt_estimate {
     fn estimate(&self) -> Result<Estimate, rbt_error> {
         let status = match self.status {
             0 => Status::Lost,
-            1 => Status::Tracking,
-            2 => Status::Uncertain,
+            1 => Status::Uncertain,
+            2 => Status::Tracking,
             _ => return Err(RBT_ERR_STATUS),
         };
         let q = Q16::from_bits;
