@@ -12,6 +12,7 @@
 //! it, a missing tool fails it. The screenshots and the boxes stay in `target/browser/`.
 
 use rbtrack::tracker::Status;
+use rbtrack_host::cli::TrackerKind;
 use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence, GROUNDTRUTH_FILE};
 use rbtrack_web::{cf_firmware_checksum, firmware_checksum};
 use std::path::{Path, PathBuf};
@@ -271,4 +272,24 @@ fn the_pages_status_names_are_the_cores() {
         let name = format!("{status:?}").to_lowercase();
         assert_eq!(page.get(status as usize), Some(&name.as_str()), "{page:?}");
     }
+}
+
+/// The page draws each tracker in the host tool's colour for it (`web/www/rbtrack.js`'s
+/// `TRACKER_COLOURS`, by the page's tracker codes: 0 RBPF, 1 colour PF, 2 correlation
+/// filter).
+#[test]
+fn the_pages_tracker_colours_are_the_hosts() {
+    let Some(out) = page_module(
+        "import { TRACKER_COLOURS } from MODULE; console.log(TRACKER_COLOURS.join(' '));",
+        &[],
+    ) else {
+        return;
+    };
+    let host: Vec<String> = [TrackerKind::Rbpf, TrackerKind::Pf, TrackerKind::Cf]
+        .map(|t| {
+            let [r, g, b] = t.colour();
+            format!("#{r:02x}{g:02x}{b:02x}")
+        })
+        .to_vec();
+    assert_eq!(out.split_whitespace().collect::<Vec<_>>(), host);
 }
