@@ -21,7 +21,8 @@ import numpy.typing as npt
 
 Box = Tuple[float, float, float, float]
 """A box (x, y, w, h): top-left corner and size, px, 0-based (a box of whole pixels
-covers columns x..x+w-1)."""
+covers columns x..x+w-1). As an argument, any sequence of 4 numbers (a tuple, a list, a
+NumPy array)."""
 
 Variant = Literal["cf", "rbpf", "pf"]
 Format = Literal["bgr", "rgb", "gray", "grey"]
@@ -57,23 +58,24 @@ class Tracker:
     def init(self, frame: npt.NDArray[np.uint8], bbox: Box) -> None:
         """Starts on the box `bbox` of `frame`, whatever the tracker did before.
 
-        Raises TypeError for a frame that is not a uint8 array; ValueError for a shape
-        the format does not take, a box that is not four finite numbers, or one the core
-        refuses (the core's message: smaller than 4 px across, or centred outside the
-        frame).
+        Raises TypeError for a frame that is not a uint8 array or a box that is not a
+        sequence of numbers; ValueError for a shape the format does not take, a box of
+        other than 4 numbers ("box must be 4 numbers x, y, w, h") or with one not finite,
+        or a box the core refuses (the core's message: smaller than 4 px across, or
+        centred outside the frame).
         """
     def update(self, frame: npt.NDArray[np.uint8]) -> Tuple[bool, Tuple[int, int, int, int]]:
         """Tracks one frame, with the GIL released: (ok, (x, y, w, h)), the box rounded to
         whole pixels (`box` has it exactly) and ok False while `status` is "lost".
 
         Raises RuntimeError before `init`; TypeError and ValueError as `init` does for
-        the frame.
+        the frame, and ValueError for a frame of another size than `init`'s.
         """
     def relocate(self, frame: npt.NDArray[np.uint8], bbox: Box) -> None:
         """Moves a particle filter onto the box `bbox` of `frame` (a detector's, say),
         keeping the colour model it learnt. Raises as `init` does, RuntimeError before it,
-        and NotImplementedError for "cf", whose models learn a new box afresh: call
-        `init`."""
+        ValueError for a frame of another size than `init`'s, and NotImplementedError for
+        "cf", whose models learn a new box afresh: call `init`."""
     @property
     def box(self) -> Box:
         """The last box (x, y, w, h), px, exact (multiples of 1/65536): the initial box

@@ -1,12 +1,19 @@
-//! A `no_std`, allocation-free, integer-only visual object tracker for microcontroller
-//! camera boards: the colour particle filter and the Rao-Blackwellised particle filter
-//! (RBPF), each a fixed-size value stepped once per frame, with bounded work, no heap
-//! and no panic path.
+//! A `no_std`, allocation-free, integer-only visual object tracker core for microcontroller
+//! camera boards: three trackers, each a fixed-size value stepped once per frame, with
+//! bounded work, no heap and no panic path.
+//!
+//! - The correlation-filter tracker, [`CfTracker`] ([`RgbCfTracker`] at its defaults), the
+//!   most accurate and the default choice: a correlation filter on luma and gradient
+//!   features, a colour model and a scale filter (Staple class), which searches around
+//!   where it last saw the target while it is lost.
+//! - The Rao-Blackwellised particle filter (RBPF) and the colour particle filter, one
+//!   [`Tracker`] with a [`Variant`] switch: cheaper a frame, colour cues (and boundary
+//!   gradients, RBPF) weighing particles, the RBPF's sizes by a Kalman filter.
 //!
 //! Start a tracker on the target's box in the first frame, then hand it each frame:
 //!
 //! ```
-//! use rbtrack::{Config, Gray8, ImageView, Rect, RgbTracker, Status, Variant};
+//! use rbtrack::{CfConfig, Gray8, ImageView, Rect, RgbCfTracker, Status};
 //!
 //! // A bright 20x20 square on a dark 64x48 grey frame, moving right 1 px a frame.
 //! let frame_at = |x0: usize| {
@@ -18,8 +25,7 @@
 //! };
 //! let first = frame_at(10);
 //! let view = ImageView::<Gray8>::new(&first, 64, 48, 64)?;
-//! let mut tracker =
-//!     RgbTracker::<50>::new(Config::new(Variant::Rbpf), &view, Rect::new(10, 14, 20, 20))?;
+//! let mut tracker = RgbCfTracker::new(CfConfig::default(), &view, Rect::new(10, 14, 20, 20))?;
 //! for x0 in 11..30 {
 //!     let buf = frame_at(x0);
 //!     let estimate = tracker.step(&ImageView::<Gray8>::new(&buf, 64, 48, 64)?);
@@ -29,6 +35,11 @@
 //! assert!((x - 29).abs() <= 2 && (w - 20).abs() <= 4, "x {x}, w {w}");
 //! # Ok::<(), rbtrack::Error>(())
 //! ```
+//!
+//! A particle filter starts the same way, with its configuration and particle count:
+//! `RgbTracker::<50>::new(Config::new(Variant::Rbpf), &view, rect)`. On a board, each
+//! tracker is built `unstarted()` in a `static` and started in place: they are tens of
+//! kilobytes.
 //!
 //! The crate's `README.md` has the key figures and a firmware quick start; `docs/` in its
 //! repository has the design, accuracy, performance, firmware and guarantees pages.
@@ -70,8 +81,10 @@
 //! - [`profile`]: the cycle-counter hook and the per-stage counts of a step.
 //!
 //! The trackers:
-//! - [`tracker`]: the colour particle filter and the Rao-Blackwellised particle filter,
-//!   configured once and stepped one frame at a time.
+//! - [`cf`]: the correlation-filter tracker's parts: per-cell features of a resampled
+//!   region, the translation filter, the colour map and the scale filter.
+//! - [`tracker`]: the three trackers, the correlation-filter tracker and the colour and
+//!   Rao-Blackwellised particle filters, configured once and stepped one frame at a time.
 //! - [`Error`]: a frame's or a tracker's refusal, for `?` in code that does both.
 //!
 //! Output:

@@ -2,7 +2,7 @@
 //! tracks as the core does.
 #![allow(unsafe_code)]
 
-use rbtrack::tracker::{CameraMotion, CfConfig, Config, Variant};
+use rbtrack::tracker::{CameraMotion, CfConfig, Config, Estimate, Status, Variant};
 use rbtrack::{Ellipse, Gray8, ImageView, Rect, RgbCfTracker, RgbTracker, Q16};
 use rbtrack_ffi::capi::rbt_error::{self, *};
 use rbtrack_ffi::capi::*;
@@ -341,6 +341,32 @@ fn configurations_round_trip_and_every_code_has_a_name() {
         assert_eq!(name.to_str().unwrap(), "unknown rbt_error code");
     }
     assert_eq!(rbt_error::RBT_ERR_TRACKER_KIND as i32, 25, "the last code");
+}
+
+#[test]
+fn the_status_numbers_rise_with_confidence() {
+    let numbers = [Status::Lost, Status::Uncertain, Status::Tracking].map(|status| {
+        let estimate = Estimate {
+            ellipse: Ellipse::new(
+                Q16::from_int(20),
+                Q16::from_int(20),
+                Q16::from_int(8),
+                Q16::from_int(8),
+            ),
+            vx: Q16::ZERO,
+            vy: Q16::ZERO,
+            confidence: Q16::ZERO,
+            status,
+        };
+        rbt_estimate::from(estimate).status
+    });
+    assert_eq!(numbers, [0, 1, 2]);
+    let named = [
+        rbt_status::RBT_STATUS_LOST,
+        rbt_status::RBT_STATUS_UNCERTAIN,
+        rbt_status::RBT_STATUS_TRACKING,
+    ];
+    assert_eq!(named.map(|s| s as u32), numbers);
 }
 
 #[test]

@@ -1,4 +1,4 @@
-//! `include/rbtrack.h` is what cbindgen makes of `src/capi.rs` now; `RBTRACK_BLESS=1`
+//! `include/rbtrack.h` is what cbindgen makes of `src/capi/` now; `RBTRACK_BLESS=1`
 //! rewrites it.
 
 use std::path::Path;
@@ -10,9 +10,9 @@ fn the_header_is_current() {
     let mut generated = Vec::new();
     cbindgen::Builder::new()
         .with_config(config)
-        .with_src(crate_dir.join("src/capi.rs"))
+        .with_src(crate_dir.join("src/capi/mod.rs"))
         .generate()
-        .expect("cbindgen reads src/capi.rs")
+        .expect("cbindgen reads src/capi/")
         .write(&mut generated);
     let generated = String::from_utf8(generated).unwrap();
     let path = crate_dir.join("include/rbtrack.h");

@@ -3,8 +3,9 @@
 //!
 //! Frames are RGB888, `width * height * 3` bytes, stride `width * 3`. Drawing clips to the
 //! frame and ignores a buffer too short for its stated size (nothing is drawn out of
-//! bounds, nothing panics). Ground truth is drawn in [`GREEN`]; trackers take the colours of
-//! [`TRACKER_COLOURS`] in turn.
+//! bounds, nothing panics). Ground truth is drawn in [`GREEN`]; each tracker in its own
+//! colour (the caller's: `TrackerKind::colour`), curves that are no tracker's in the
+//! colours of [`PALETTE`].
 //!
 //! Plots are drawn with `plotters` on an in-memory bitmap; text uses `ab_glyph` with the
 //! Noto Sans Regular font embedded from the `ttf-noto-sans` crate, so no system font or
@@ -22,19 +23,20 @@ pub type Rgb = [u8; 3];
 
 /// Ground-truth colour.
 pub const GREEN: Rgb = [0, 220, 0];
-/// Colours for tracker estimates, in order of use.
-pub const TRACKER_COLOURS: [Rgb; 6] = [
-    [255, 40, 40],
-    [40, 120, 255],
-    [255, 200, 0],
-    [255, 0, 255],
-    [0, 230, 230],
-    [255, 128, 0],
+/// Colours of curves that are no tracker's (one per sequence, say), in order of use: none
+/// near a tracker's colour.
+pub const PALETTE: [Rgb; 6] = [
+    [31, 119, 180],
+    [44, 160, 44],
+    [214, 39, 40],
+    [148, 103, 189],
+    [140, 86, 75],
+    [127, 127, 127],
 ];
 
-/// The colour of the `i`-th tracker (cycles through [`TRACKER_COLOURS`]).
-pub fn tracker_colour(i: usize) -> Rgb {
-    TRACKER_COLOURS[i % TRACKER_COLOURS.len()]
+/// The `i`-th colour of [`PALETTE`] (cycling).
+pub fn palette(i: usize) -> Rgb {
+    PALETTE[i % PALETTE.len()]
 }
 
 /// Why a picture could not be made or written.
@@ -320,13 +322,15 @@ pub fn save_gif(
     Ok(())
 }
 
-/// One line of a plot: a label and its y values at evenly spaced x.
+/// One line of a plot: a label, its y values at evenly spaced x and its colour.
 #[derive(Clone, Copy, Debug)]
 pub struct Series<'a> {
     /// Legend text (the plot appends the summary figure).
     pub label: &'a str,
     /// Y values, in `[0, 1]`.
     pub values: &'a [f64],
+    /// The line's colour.
+    pub colour: Rgb,
 }
 
 /// Plot size, px.
@@ -455,8 +459,8 @@ fn line_plot(
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| perr(&e))?;
-        for (i, s) in series.iter().enumerate() {
-            let [r, g, b] = tracker_colour(i);
+        for s in series {
+            let [r, g, b] = s.colour;
             let colour = RGBColor(r, g, b);
             let step = if s.values.len() > 1 {
                 axes.x_max / (s.values.len() - 1) as f64

@@ -6,10 +6,13 @@
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`), Node with the harness's
 //! packages (`npm ci --prefix web/test`), the `wasm32-unknown-unknown` target and the
-//! shared sequences; without one of them the test says which and passes without running
-//! (fails, with `RBTRACK_REQUIRE_BROWSER` set as CI sets it, for a missing tool). The screenshots and the
-//! boxes stay in `target/browser/`.
+//! shared sequences. Without Chromium or the packages the test is ignored, and the build
+//! warns which is missing and how to install it (`build.rs`); without another of them it
+//! says which and passes without running. With `RBTRACK_REQUIRE_BROWSER` set, as CI sets
+//! it, a missing tool fails it. The screenshots and the boxes stay in `target/browser/`.
 
+use rbtrack::tracker::Status;
+use rbtrack_host::cli::TrackerKind;
 use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence, GROUNDTRUTH_FILE};
 use rbtrack_web::{cf_firmware_checksum, firmware_checksum};
 use std::path::{Path, PathBuf};
@@ -58,6 +61,10 @@ fn run(command: &mut Command) -> String {
 }
 
 #[test]
+#[cfg_attr(
+    no_browser,
+    ignore = "needs Chromium and `npm ci --prefix web/test` (the build's warning says which is missing)"
+)]
 fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     if let Some(why) = missing() {
         assert!(
@@ -198,16 +205,32 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
     );
 }
 
+/// What `script` (an ES module, `MODULE` standing for `web/www/rbtrack.js`'s URL) prints
+/// under Node, or `None` without Node.
+fn page_module(script: &str, args: &[String]) -> Option<String> {
+    let node = Command::new("node").arg("--version").output();
+    if !node.is_ok_and(|o| o.status.success()) {
+        println!("SKIPPED: no node");
+        return None;
+    }
+    let module = format!(
+        "{:?}",
+        format!("file://{}", repo().join("web/www/rbtrack.js").display())
+    );
+    Some(run(Command::new("node")
+        .args([
+            "--input-type=module",
+            "-e",
+            &script.replace("MODULE", &module),
+        ])
+        .args(args)))
+}
+
 /// The page writes its CSV with `fixed` (`web/www/rbtrack.js`), which must round as Rust's
 /// `{:.N}` does (half to even on the exact value; JavaScript's `toFixed` rounds halves up):
 /// on multiples of 1/8 (a tie at 2 decimals every other one), Q16.16 values and others.
 #[test]
 fn the_pages_decimals_are_rusts() {
-    let node = Command::new("node").arg("--version").output();
-    if !node.is_ok_and(|o| o.status.success()) {
-        println!("SKIPPED: no node");
-        return;
-    }
     let mut values: Vec<(f64, usize)> = (-40..40).map(|i| (i as f64 / 8.0, 2)).collect();
     let mut state = 12345u32;
     for digits in [2, 3, 4] {
@@ -219,19 +242,54 @@ fn the_pages_decimals_are_rusts() {
         values.push((-0.0, digits));
     }
     let json: Vec<String> = values.iter().map(|(v, d)| format!("[{v:?},{d}]")).collect();
-    let module = repo().join("web/www/rbtrack.js");
-    let script = format!(
-        "import {{ fixed }} from {:?}; \
+    let Some(out) = page_module(
+        "import { fixed } from MODULE; \
          const values = JSON.parse(process.argv[1]); \
          console.log(values.map(([v, d]) => fixed(v, d)).join(' '));",
-        format!("file://{}", module.display())
-    );
-    let out = run(Command::new("node")
-        .args(["--input-type=module", "-e", &script])
-        .arg(format!("[{}]", json.join(","))));
+        &[format!("[{}]", json.join(","))],
+    ) else {
+        return;
+    };
     let page: Vec<&str> = out.split_whitespace().collect();
     assert_eq!(page.len(), values.len());
     for ((v, d), p) in values.iter().zip(page) {
         assert_eq!(p, format!("{v:.d$}", d = *d), "{v:?} to {d} decimals");
     }
+}
+
+/// The page names the status numbers of its report (the core's `Status as u8`) as the
+/// core names its statuses.
+#[test]
+fn the_pages_status_names_are_the_cores() {
+    let Some(out) = page_module(
+        "import { STATUS } from MODULE; console.log(STATUS.join(' '));",
+        &[],
+    ) else {
+        return;
+    };
+    let page: Vec<&str> = out.split_whitespace().collect();
+    for status in [Status::Lost, Status::Uncertain, Status::Tracking] {
+        let name = format!("{status:?}").to_lowercase();
+        assert_eq!(page.get(status as usize), Some(&name.as_str()), "{page:?}");
+    }
+}
+
+/// The page draws each tracker in the host tool's colour for it (`web/www/rbtrack.js`'s
+/// `TRACKER_COLOURS`, by the page's tracker codes: 0 RBPF, 1 colour PF, 2 correlation
+/// filter).
+#[test]
+fn the_pages_tracker_colours_are_the_hosts() {
+    let Some(out) = page_module(
+        "import { TRACKER_COLOURS } from MODULE; console.log(TRACKER_COLOURS.join(' '));",
+        &[],
+    ) else {
+        return;
+    };
+    let host: Vec<String> = [TrackerKind::Rbpf, TrackerKind::Pf, TrackerKind::Cf]
+        .map(|t| {
+            let [r, g, b] = t.colour();
+            format!("#{r:02x}{g:02x}{b:02x}")
+        })
+        .to_vec();
+    assert_eq!(out.split_whitespace().collect::<Vec<_>>(), host);
 }

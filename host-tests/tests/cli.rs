@@ -3,6 +3,7 @@
 //! a raw dump of them; their JSON, box and per-frame files; configuration by `--set` and
 //! `--config`; and the error cases (one line on stderr, non-zero exit, no panic).
 
+use rbtrack_host::cli::TrackerKind;
 use rbtrack_host::config_fields::FIELDS;
 use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::scene::{Scene, SceneConfig, Variant};
@@ -217,7 +218,7 @@ fn demo_writes_files_and_prints_a_table() {
     for col in ["AUC", "prec@20", "mIoU", "success", "ms/frame"] {
         assert!(header.contains(col), "{header}");
     }
-    for tracker in ["rbpf", "pf"] {
+    for tracker in ["cf", "rbpf", "pf"] {
         let row = text
             .lines()
             .find(|l| l.split_whitespace().next() == Some(tracker))
@@ -240,6 +241,14 @@ fn demo_writes_files_and_prints_a_table() {
     }
     let strip = image::open(out.join("strip.png")).unwrap();
     assert!(strip.width() > 4 * 320 && strip.height() > 2 * 240);
+    // Each tracker in its one colour: its ellipses and its curves.
+    for file in ["strip.png", "success.png", "precision.png"] {
+        let picture = image::open(out.join(file)).unwrap().into_rgb8();
+        for tracker in TrackerKind::CORE {
+            let drawn = picture.pixels().filter(|p| p.0 == tracker.colour()).count();
+            assert!(drawn > 100, "{file}: {drawn} px of {tracker}'s colour");
+        }
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -97,26 +97,40 @@ fn strip_gif_and_png_files() {
 }
 
 #[test]
-fn success_and_precision_plots() {
+fn success_and_precision_plots_draw_each_series_in_its_colour() {
     let dir = temp_dir("plots");
     let ious: Vec<f64> = (0..50).map(|i| i as f64 / 50.0).collect();
     let errors: Vec<f64> = (0..50).map(|i| i as f64).collect();
     let (s, p) = (success_curve(&ious), precision_curve(&errors, 50));
-    let series = [Series {
-        label: "pf",
-        values: &s,
-    }];
-    success_plot(dir.join("success.png"), "Success", &series).unwrap();
-    let series = [Series {
-        label: "pf",
-        values: &p,
-    }];
-    precision_plot(dir.join("precision.png"), "Precision", &series).unwrap();
-    for f in ["success.png", "precision.png"] {
-        let img = image::open(dir.join(f)).unwrap().into_rgb8();
+    let halves = |values: &[f64]| values.iter().map(|v| v / 2.0).collect::<Vec<_>>();
+    let (orange, teal) = ([255, 128, 0], [0, 190, 210]);
+    let series = |values: &[f64], halved: &[f64]| {
+        [(values, orange), (halved, teal)].map(|(values, colour)| (values.to_vec(), colour))
+    };
+    let plots = [
+        ("success.png", series(&s, &halves(&s))),
+        ("precision.png", series(&p, &halves(&p))),
+    ];
+    for (file, curves) in &plots {
+        let series = curves.each_ref().map(|(values, colour)| Series {
+            label: "pf",
+            values,
+            colour: *colour,
+        });
+        let path = dir.join(file);
+        if *file == "success.png" {
+            success_plot(&path, "Success", &series).unwrap();
+        } else {
+            precision_plot(&path, "Precision", &series).unwrap();
+        }
+        let img = image::open(&path).unwrap().into_rgb8();
         assert_eq!(img.dimensions(), PLOT_SIZE);
         // Some dark pixels: axes and text were drawn.
         assert!(img.pixels().filter(|p| p.0.iter().all(|&c| c < 80)).count() > 500);
+        for colour in [orange, teal] {
+            let drawn = img.pixels().filter(|p| p.0 == colour).count();
+            assert!(drawn > 300, "{file}: {drawn} px of {colour:?}");
+        }
     }
     assert!(matches!(
         success_plot(dir.join("x.png"), "x", &[]),

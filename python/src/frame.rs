@@ -131,6 +131,11 @@ impl<'a> Pixels<'a> {
         })
     }
 
+    /// Width and height, px.
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
     /// Whether the pixels are the array's own memory, not a copy.
     pub fn borrowed(&self) -> bool {
         matches!(self.bytes, Cow::Borrowed(_))

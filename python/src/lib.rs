@@ -3,7 +3,7 @@
 //! stubs and docs of the Python API are `rbtrack.pyi`.
 
 use numpy::PyReadonlyArrayDyn;
-use pyo3::exceptions::{PyNotImplementedError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyNotImplementedError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use rbtrack::tracker::{CfConfig, Config, Estimate, Status, Variant};
 use rbtrack::{Rect, RgbCfTracker, RgbTracker};
@@ -74,6 +74,8 @@ struct Tracker {
     engine: Engine,
     /// The last estimate, `None` before `init`.
     estimate: Option<Estimate>,
+    /// Width and height of `init`'s frame, px: every frame's after it.
+    size: (usize, usize),
 }
 
 /// An unstarted tracker of `particles` particles on 512 RGB bins.
@@ -91,15 +93,26 @@ fn unstarted(particles: usize) -> PyResult<Box<dyn Track + Send + Sync>> {
     })
 }
 
-/// The 0-based box `(x, y, w, h)`, px, as the core's ellipse; a `ValueError` unless finite.
-fn ellipse(bbox: (f64, f64, f64, f64)) -> PyResult<rbtrack::Ellipse> {
-    let (x, y, w, h) = bbox;
-    if ![x, y, w, h].iter().all(|v| v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "box {bbox:?} must be four finite numbers"
-        )));
+/// The 0-based box `bbox` = `(x, y, w, h)`, px, any sequence of 4 finite numbers, as the
+/// core's ellipse; a `TypeError` for what is not a sequence of numbers, a `ValueError` for
+/// another count or a number that is not finite.
+fn ellipse(bbox: &Bound<'_, PyAny>) -> PyResult<rbtrack::Ellipse> {
+    let shown = || bbox.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+    let numbers: Vec<f64> = bbox.extract().map_err(|_| {
+        PyTypeError::new_err(format!("box must be 4 numbers x, y, w, h, not {}", shown()))
+    })?;
+    match numbers[..] {
+        [x, y, w, h] if numbers.iter().all(|v| v.is_finite()) => Ok(ellipse_of_box(x, y, w, h)),
+        [_, _, _, _] => Err(PyValueError::new_err(format!(
+            "box must be 4 finite numbers x, y, w, h, not {}",
+            shown()
+        ))),
+        _ => Err(PyValueError::new_err(format!(
+            "box must be 4 numbers x, y, w, h, not {} ({})",
+            numbers.len(),
+            shown()
+        ))),
     }
-    Ok(ellipse_of_box(x, y, w, h))
 }
 
 /// `status`'s name: `"tracking"`, `"uncertain"` or `"lost"`.
@@ -116,6 +129,18 @@ impl Tracker {
     fn last(&self) -> PyResult<Estimate> {
         self.estimate
             .ok_or_else(|| PyRuntimeError::new_err("the tracker has no target: call init first"))
+    }
+
+    /// A `ValueError` unless `pixels` are of the size of `init`'s frame.
+    fn check_size(&self, pixels: &Pixels<'_>) -> PyResult<()> {
+        let ((w, h), (init_w, init_h)) = (pixels.size(), self.size);
+        if (w, h) == self.size {
+            return Ok(());
+        }
+        Err(PyValueError::new_err(format!(
+            "frame is {w} x {h} px, but init's was {init_w} x {init_h} px: a tracker takes \
+             frames of one size (init again for another)"
+        )))
     }
 }
 
@@ -161,11 +186,12 @@ impl Tracker {
             order: Order::named(format)?,
             engine,
             estimate: None,
+            size: (0, 0),
         })
     }
 
     /// Starts on the box `bbox` = `(x, y, w, h)` (px, 0-based) of `frame`.
-    fn init(&mut self, frame: &Bound<'_, PyAny>, bbox: (f64, f64, f64, f64)) -> PyResult<()> {
+    fn init(&mut self, frame: &Bound<'_, PyAny>, bbox: &Bound<'_, PyAny>) -> PyResult<()> {
         let array = frame::borrow(frame)?;
         let pixels = Pixels::of(&array, self.order)?;
         let frame = pixels.frame()?;
@@ -187,11 +213,12 @@ impl Tracker {
         };
         started.map_err(|e| PyValueError::new_err(e.to_string()))?;
         self.estimate = Some(self.engine.estimate());
+        self.size = pixels.size();
         Ok(())
     }
 
-    /// Tracks one frame, the GIL released; `(ok, (x, y, w, h))` with the box in whole
-    /// pixels and `ok` false while the status is `"lost"`.
+    /// Tracks one frame of `init`'s frame's size, the GIL released; `(ok, (x, y, w, h))`
+    /// with the box in whole pixels and `ok` false while the status is `"lost"`.
     fn update(
         &mut self,
         py: Python<'_>,
@@ -200,6 +227,7 @@ impl Tracker {
         self.last()?;
         let array: PyReadonlyArrayDyn<'_, u8> = frame::borrow(frame)?;
         let pixels = Pixels::of(&array, self.order)?;
+        self.check_size(&pixels)?;
         let frame = pixels.frame()?;
         let engine = &mut self.engine;
         let estimate = py.detach(|| engine.step(&frame));
@@ -208,19 +236,21 @@ impl Tracker {
     }
 
     /// Moves a particle filter onto the box `bbox` = `(x, y, w, h)` of `frame` (a
-    /// detector's, say), keeping the colour model it learnt; `NotImplementedError` for the
-    /// correlation-filter tracker, whose models learn a new box afresh (`init`).
-    fn relocate(&mut self, frame: &Bound<'_, PyAny>, bbox: (f64, f64, f64, f64)) -> PyResult<()> {
+    /// detector's, say; of `init`'s frame's size), keeping the colour model it learnt;
+    /// `NotImplementedError` for the correlation-filter tracker, whose models learn a new
+    /// box afresh (`init`).
+    fn relocate(&mut self, frame: &Bound<'_, PyAny>, bbox: &Bound<'_, PyAny>) -> PyResult<()> {
         self.last()?;
+        let array = frame::borrow(frame)?;
+        let pixels = Pixels::of(&array, self.order)?;
+        self.check_size(&pixels)?;
+        let at = ellipse(bbox)?;
         let Engine::Particles { tracker, .. } = &mut self.engine else {
             return Err(PyNotImplementedError::new_err(
                 "relocate keeps a particle filter's colour model; the correlation-filter \
                  tracker ('cf') learns a new box afresh: call init",
             ));
         };
-        let array = frame::borrow(frame)?;
-        let pixels = Pixels::of(&array, self.order)?;
-        let at = ellipse(bbox)?;
         tracker
             .relocate(&pixels.frame()?, at)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;

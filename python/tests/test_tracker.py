@@ -187,9 +187,12 @@ def test_the_defaults_and_what_each_variant_takes():
         ({}, np.zeros((0, 64, 3), np.uint8), (20, 16, 16, 16), ValueError, "image width or height is zero"),
         ({}, square(20), (200, 16, 16, 16), ValueError, "initial ellipse centred outside the frame"),
         ({}, square(20), (20, 16, 1, 16), ValueError, "initial ellipse below the smallest half-axis"),
-        ({}, square(20), (20, 16, float("nan"), 16), ValueError, "must be four finite numbers"),
-        ({}, square(20), (20, 16, 16), ValueError, "expected tuple of length 4"),
-        ({}, square(20), "20,16,16,16", TypeError, "is not an instance of 'tuple'"),
+        ({}, square(20), (20, 16, float("nan"), 16), ValueError, "box must be 4 finite numbers x, y, w, h"),
+        ({}, square(20), (20, 16, 16), ValueError, "box must be 4 numbers x, y, w, h, not 3 ((20, 16, 16))"),
+        ({}, square(20), [20, 16, 16, 16, 1], ValueError, "box must be 4 numbers x, y, w, h, not 5"),
+        ({}, square(20), "20,16,16,16", TypeError, "box must be 4 numbers x, y, w, h, not '20,16,16,16'"),
+        ({}, square(20), (20, 16, "16", 16), TypeError, "box must be 4 numbers x, y, w, h"),
+        ({}, square(20), None, TypeError, "box must be 4 numbers x, y, w, h, not None"),
     ],
 )
 def test_bad_input_raises(make, frame, box, error, message):
@@ -197,6 +200,32 @@ def test_bad_input_raises(make, frame, box, error, message):
         tracker = rbtrack.Tracker(**make)
         tracker.init(frame, box)
     assert message in str(raised.value)
+
+
+def test_a_box_is_any_sequence_of_four_numbers():
+    boxes = [(20, 16, 16, 16), [20, 16, 16, 16], np.array([20.0, 16.0, 16.0, 16.0]), np.arange(20, 24)]
+    for box in boxes:
+        tracker = rbtrack.Tracker(variant="pf")
+        tracker.init(square(20), box)
+        assert tracker.box == tuple(float(v) for v in box)
+        tracker.relocate(square(22), box)
+
+
+@pytest.mark.parametrize("variant", ["cf", "pf"])
+def test_a_frame_of_another_size_than_inits_raises(variant):
+    tracker = rbtrack.Tracker(variant=variant)
+    tracker.init(square(20), (20, 16, 16, 16))
+    wider = square(20, shape=(48, 80))
+    with pytest.raises(ValueError, match=r"frame is 80 x 48 px, but init's was 64 x 48 px"):
+        tracker.update(wider)
+    with pytest.raises(ValueError, match=r"frame is 64 x 40 px, but init's was 64 x 48 px"):
+        tracker.update(square(20)[:40])
+    if variant == "pf":
+        with pytest.raises(ValueError, match=r"frame is 80 x 48 px"):
+            tracker.relocate(wider, (20, 16, 16, 16))
+    assert tracker.update(square(21))[0] is True
+    tracker.init(wider, (20, 16, 16, 16))
+    assert tracker.update(square(21, shape=(48, 80)))[0] is True
 
 
 def test_update_and_properties_before_init_raise():

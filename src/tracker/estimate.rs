@@ -9,7 +9,8 @@ use crate::image::{Binning, ImageView, PixelFormat};
 use crate::rect::Rect;
 use crate::window::Ellipse;
 
-/// How sure the tracker is of its estimate.
+/// How sure the tracker is of its estimate, numbered from least to most sure (the C
+/// API's `rbt_status` numbers).
 ///
 /// `Lost` is 0, so that an unstarted tracker ([`Tracker::unstarted`]) is all zero bits and
 /// a `static` of one takes no flash.
@@ -18,10 +19,10 @@ use crate::window::Ellipse;
 #[repr(u8)]
 pub enum Status {
     /// Confidence at or above `uncertain_below`.
-    Tracking = 1,
+    Tracking = 2,
     /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, the tracker searches
     /// the whole frame with part of its particles.
-    Uncertain = 2,
+    Uncertain = 1,
     /// Confidence below `lost_below`.
     Lost = 0,
 }

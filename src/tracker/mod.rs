@@ -1,11 +1,21 @@
-//! The two trackers: the colour particle filter and the Rao-Blackwellised particle filter,
-//! one engine with a [`Variant`] switch, run one frame at a time by [`Tracker::step`].
+//! The three trackers, each run one frame at a time by its `step`, each giving an
+//! [`Estimate`] whose confidence sets its [`Status`]:
 //!
-//! Both share the window, histogram, cue, resampling and read-out code; they differ in how
-//! a particle's ellipse size moves (sampled, or a Kalman filter per particle fed by a
-//! once-per-frame scale measurement) and in the weight (colour, or colour and gradient).
+//! - [`CfTracker`], the correlation-filter tracker (Staple class; [`RgbCfTracker`] at its
+//!   defaults, the most accurate): a translation filter on per-cell luma and gradient
+//!   features and a colour model answer over a search region, their merged peak is the
+//!   new position and the confidence, and a scale filter finds the size there; while the
+//!   target is lost it searches more regions around where it was last seen. Its parts are
+//!   in [`crate::cf`], its step in `correlation.rs`.
+//! - [`Tracker`], the colour particle filter and the Rao-Blackwellised particle filter
+//!   (RBPF): one engine with a [`Variant`] switch, described below.
 //!
-//! # One step
+//! Both particle filters share the window, histogram, cue, resampling and read-out code;
+//! they differ in how a particle's ellipse size moves (sampled, or a Kalman filter per
+//! particle fed by a once-per-frame scale measurement) and in the weight (colour, or
+//! colour and gradient).
+//!
+//! # A particle filter's step
 //! 1. **Propagate**: constant-velocity drift with Gaussian noise; the size is scaled by a
 //!    random factor (colour PF) or predicted by eq. 7 of the RBPF paper, the half-height
 //!    following the vertical motion by `scale_per_row` and the aspect ratio kept (RBPF),
@@ -28,7 +38,7 @@
 //!    window's histogram into the model.
 //! 5. **Resample** when the effective sample size is below `resample_below * N`.
 //!
-//! # Layout
+//! # A particle filter's layout
 //! A [`Tracker`] holds its [`Config`] and what it derives once per (re)start (cost scales,
 //! the gradient cue's tables, the initial size covariance, the contrast box calibration),
 //! the filter's state carried from frame to frame (random stream, particles, weights, size
@@ -39,7 +49,7 @@
 //! `estimate.rs`.
 //!
 //! # Bounded work
-//! A step visits at most [`max_pixels_per_step`]`(N, pixels_per_window)` =
+//! A particle filter's step visits at most [`max_pixels_per_step`]`(N, pixels_per_window)` =
 //! `(N + 10) * cap + 2 * map::SIDE^2` pixels (`cap` the pixel cap lowered to
 //! [`crate::window::MAX_CAP`]): `N` particle windows, the estimate's window, five scale
 //! windows (RBPF, size by likelihood), the adaptation's whole window, halves and ring (a
@@ -146,7 +156,7 @@ pub type YuvTracker<const N: usize> = Tracker<Yuv8x8x4, N, 256>;
 /// A tracker of `N` particles on 64-level grey histograms.
 pub type LumaTracker<const N: usize> = Tracker<Luma64, N, 64>;
 /// The correlation-filter tracker at its defaults: 16 x 16 cells, 8 scales, 8x8x8 RGB
-/// colour histograms (89 KB).
+/// colour histograms (70,608 bytes on a 32-bit target).
 pub type RgbCfTracker = CfTracker<Rgb8x8x8, 512, 16, 8>;
 
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by

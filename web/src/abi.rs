@@ -12,8 +12,8 @@ use rbtrack::tracker::{Estimate, Variant};
 use std::sync::{Mutex, PoisonError};
 
 /// Values of [`rb_report`]: centre `cx`, `cy`, half-axes `hx`, `hy` (px, 0-based),
-/// velocity `vx`, `vy` (px/frame), confidence (0..1), status (0 lost, 1 tracking, 2
-/// uncertain), pixels the step read.
+/// velocity `vx`, `vy` (px/frame), confidence (0..1), status (0 lost, 1 uncertain, 2
+/// tracking), pixels the step read.
 pub const REPORT_LEN: usize = 9;
 
 /// Values of [`rb_report_bits`]: the Q16.16 bits of `cx`, `cy`, `hx`, `hy`, `vx`, `vy`
@@ -162,7 +162,7 @@ mod tests {
         assert_eq!(rb_step(), 0);
         let report = state().report;
         assert!((report[0] - 27.5).abs() < 2.0, "{report:?}");
-        assert_eq!(report[7], 1.0, "tracking");
+        assert_eq!(report[7], 2.0, "tracking");
         assert!(report[8] > 0.0, "pixels read");
         assert_eq!(state().bits[2] as f64 / 65536.0, report[2]);
     }

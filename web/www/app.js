@@ -1,6 +1,6 @@
 // The page: a video file or the webcam, a box drawn by hand, the tracker on every frame,
 // the estimate drawn live, confidence over time, time per step, the boxes as CSV.
-import { load, csvRow, CSV_HEADER } from "./rbtrack.js";
+import { load, csvRow, CSV_HEADER, TRACKER_COLOURS } from "./rbtrack.js";
 
 /** Frames wider than this are scaled down to it before tracking, px. */
 const MAX_WIDTH = 640;
@@ -20,6 +20,7 @@ let still = null; // the frame the box is drawn on (ImageData)
 let tracking = false;
 let rows = [];
 let confidences = [];
+let colour = TRACKER_COLOURS[2]; // the running tracker's
 let stepMs = 0;
 let frameMs = 0;
 let steps = 0;
@@ -51,7 +52,6 @@ function show(image, r) {
     viewCtx.strokeRect(box[0], box[1], box[2], box[3]);
   }
   if (r) {
-    const colour = { tracking: "#0ff", uncertain: "#fb0", lost: "#f33" }[r.status];
     viewCtx.strokeStyle = colour;
     viewCtx.beginPath();
     viewCtx.ellipse(r.cx + 0.5, r.cy + 0.5, r.hx, r.hy, 0, 0, 2 * Math.PI);
@@ -71,7 +71,7 @@ function plot() {
   c.clearRect(0, 0, w, h);
   c.strokeStyle = "#ccc";
   c.strokeRect(0, 0, w, h);
-  c.strokeStyle = "#06c";
+  c.strokeStyle = colour;
   c.beginPath();
   confidences.forEach((v, i) => {
     const span = Math.min(Math.max(confidences.length, 100), PLOT_POINTS) - 1;
@@ -85,6 +85,7 @@ function plot() {
 function start(image, tracker, particles, seed, initial) {
   core.frame(image);
   core.start(tracker, particles, seed, initial);
+  colour = TRACKER_COLOURS[tracker];
   const r = core.report();
   rows = [csvRow(1, r, initial)];
   confidences = [r.confidence];

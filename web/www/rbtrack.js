@@ -1,8 +1,14 @@
 // The rbtrack core in WebAssembly (rbtrack_web.wasm, built from web/src): loading it,
 // handing it frames, reading its estimates, and the host tool's per-frame CSV.
 
-/** Status codes of the report: 0 lost, 1 tracking, 2 uncertain. */
-export const STATUS = ["lost", "tracking", "uncertain"];
+/**
+ * Each tracker's colour in the page's pictures, by its code of `start` (0 RBPF, 1 colour
+ * PF, 2 correlation filter): the host tool's (`TrackerKind::colour`, host-tests).
+ */
+export const TRACKER_COLOURS = ["#e6b900", "#00bed2", "#ff8000"];
+
+/** Status codes of the report: 0 lost, 1 uncertain, 2 tracking. */
+export const STATUS = ["lost", "uncertain", "tracking"];
 
 /** Error codes of `start` and `step` (web/src/lib.rs, WebError::code). */
 const ERRORS = {

@@ -228,7 +228,8 @@ int main(void) {
     rbt_tracker *tracker;
     rbt_error err = rbt_tracker_place_cf(tracker_memory, sizeof tracker_memory, &tracker);
     if (err != RBT_OK) return fail("place", err);
-    const rbt_image image = {frame_buffer, sizeof frame_buffer, WIDTH, HEIGHT, WIDTH, RBT_FORMAT_RGB565LE};
+    const rbt_image image = {.data = frame_buffer, .size = sizeof frame_buffer, .width = WIDTH,
+                             .height = HEIGHT, .stride = WIDTH, .format = RBT_FORMAT_RGB565LE};
     rbt_cf_config config;
     err = rbt_cf_config_default(&config);
     if (err != RBT_OK) return fail("config", err);
@@ -249,7 +250,8 @@ int main(void) {
     rbt_tracker *tracker;
     rbt_error err = rbt_tracker_place_rgb_100(tracker_memory, sizeof tracker_memory, &tracker);
     if (err != RBT_OK) return fail("place", err);
-    const rbt_image image = {frame_buffer, sizeof frame_buffer, WIDTH, HEIGHT, WIDTH, RBT_FORMAT_RGB565LE};
+    const rbt_image image = {.data = frame_buffer, .size = sizeof frame_buffer, .width = WIDTH,
+                             .height = HEIGHT, .stride = WIDTH, .format = RBT_FORMAT_RGB565LE};
     const uint32_t variants[2] = {RBT_VARIANT_RBPF, RBT_VARIANT_COLOUR_PF};
     uint64_t checksum = FNV_OFFSET;
     for (int v = 0; v < 2; v++) {

@@ -70,7 +70,8 @@ int main(int argc, char **argv) {
                     : rbt_tracker_place_rgb_100(tracker_memory, sizeof tracker_memory, &tracker);
     if (e != RBT_OK) return fail("place", e);
 
-    rbt_image frame = {pixels, frame_bytes, width, height, width, RBT_FORMAT_RGB888};
+    rbt_image frame = {.data = pixels, .size = frame_bytes, .width = width, .height = height,
+                       .stride = width, .format = RBT_FORMAT_RGB888};
     rbt_rect box = {x * RBT_Q16_ONE, y * RBT_Q16_ONE, w * RBT_Q16_ONE, h * RBT_Q16_ONE};
     for (size_t n = 0; fread(pixels, 1, frame_bytes, in) == frame_bytes; n++) {
         if (n == 0) {

@@ -1,7 +1,7 @@
 //! `rbtrack demo`: the core's three trackers on a built-in synthetic scene, with pictures.
 
 use super::args::DemoArgs;
-use super::report::{plot_pair, tracker_table};
+use super::report::{plot_pair, tracker_table, Curves};
 use super::runs::{overlay, track_frames, RunSpec, Start};
 use super::{create_dir, emit, fail, Failure, TrackerKind};
 use crate::draw;
@@ -90,17 +90,20 @@ pub fn demo(args: &DemoArgs, out: &mut dyn Write) -> Result<(), Failure> {
         draw::save_gif(&path, &refs, w, h, 100).map_err(fail)?;
         files.push(path);
     }
-    let labels: Vec<String> = runs.iter().map(|r| r.tracker().to_string()).collect();
-    let evals: Vec<_> = runs.iter().filter_map(|r| r.evaluation.as_ref()).collect();
-    let success: Vec<Vec<f64>> = evals.iter().map(|e| e.success_curve.to_vec()).collect();
-    let precision: Vec<Vec<f64>> = evals.iter().map(|e| e.precision_curve.clone()).collect();
-    let title = format!(
-        "synthetic {} scene, {PARTICLES} particles",
-        args.scene.name()
-    );
-    files.extend(plot_pair(
-        &args.out, "", &title, &labels, &success, &precision,
-    )?);
+    let curves: Vec<Curves> = runs
+        .iter()
+        .filter_map(|r| {
+            let e = r.evaluation.as_ref()?;
+            Some(Curves {
+                label: r.spec.label(PARTICLES),
+                colour: r.tracker().colour(),
+                success: e.success_curve.to_vec(),
+                precision: e.precision_curve.clone(),
+            })
+        })
+        .collect();
+    let title = format!("synthetic {} scene", args.scene.name());
+    files.extend(plot_pair(&args.out, "", &title, &curves)?);
 
     emit(
         out,

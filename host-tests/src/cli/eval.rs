@@ -5,8 +5,8 @@
 
 use super::args::EvalArgs;
 use super::report::{
-    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, MeanGroup, MeanRow,
-    SequenceRow,
+    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, Curves, MeanGroup,
+    MeanRow, SequenceRow,
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
@@ -15,6 +15,7 @@ use super::{
 };
 use crate::camera::{Camera, VirtualCamera};
 use crate::cf64::cost::Operations;
+use crate::draw;
 use crate::metrics::{BBox, Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
 use crate::pixels::Format;
 use crate::run::{Bins, Shape};
@@ -333,7 +334,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     }
     if !args.json || args.plots || args.out.is_some() {
         let dir = args.out.clone().unwrap_or_else(|| PathBuf::from(PLOTS));
-        for f in eval_plots(&dir, &results, &trackers, args.config.particles)? {
+        for f in eval_plots(&dir, &results, &specs, &trackers, args.config.particles)? {
             written.push(f.display().to_string());
         }
     }
@@ -637,67 +638,65 @@ fn curves(s: &SequenceResult, tracker: TrackerKind) -> Option<(Vec<f64>, Vec<f64
 }
 
 /// Writes `eval`'s plots into `dir`: per tracker, success and precision plots with one
-/// curve per sequence (the mean over its seeds) plus the mean curve (`success.png`,
-/// `precision.png` for one tracker; `success_rbpf.png`, ... for both, plus `success.png`,
-/// `precision.png` comparing the trackers' mean curves). Returns the files written.
+/// curve per sequence (the mean over its seeds, in [`draw::PALETTE`]'s colours) and their
+/// mean in the tracker's colour (`success.png`, `precision.png` for one tracker;
+/// `success_rbpf.png`, ... for several, plus `success.png`, `precision.png` comparing the
+/// trackers' mean curves, each in its colour). Titles and legends name each tracker's
+/// configuration ([`RunSpec::label`]). Returns the files written.
 fn eval_plots(
     dir: &Path,
     results: &[SequenceResult],
+    specs: &[RunSpec],
     trackers: &[TrackerKind],
     particles: usize,
 ) -> Result<Vec<PathBuf>, Failure> {
     create_dir(dir)?;
     let mut files = Vec::new();
     let several = trackers.len() > 1;
-    let (mut labels_all, mut success_all, mut precision_all) = (Vec::new(), Vec::new(), Vec::new());
+    let mut means = Vec::new();
     for &k in trackers {
-        let (mut labels, mut success, mut precision) = (Vec::new(), Vec::new(), Vec::new());
+        let mut plotted = Vec::new();
         for s in results {
-            if let Some((sc, pc)) = curves(s, k) {
-                labels.push(s.name.clone());
-                success.push(sc);
-                precision.push(pc);
+            if let Some((success, precision)) = curves(s, k) {
+                plotted.push(Curves {
+                    label: s.name.clone(),
+                    colour: draw::palette(plotted.len()),
+                    success,
+                    precision,
+                });
             }
         }
-        if labels.is_empty() {
-            continue;
-        }
-        let mean_success = mean_curve(
-            &success.iter().map(Vec::as_slice).collect::<Vec<_>>(),
-            SUCCESS_STEPS,
-        );
-        let mean_precision = mean_curve(
-            &precision.iter().map(Vec::as_slice).collect::<Vec<_>>(),
-            PRECISION_MAX_PX + 1,
-        );
-        if labels.len() > 1 {
-            labels.push("mean".into());
-            success.push(mean_success.clone());
-            precision.push(mean_precision.clone());
+        let label = specs
+            .iter()
+            .find(|s| s.tracker == k)
+            .map_or_else(|| k.to_string(), |s| s.label(particles));
+        let mean_of = |values: fn(&Curves) -> &[f64], len| {
+            mean_curve(&plotted.iter().map(values).collect::<Vec<_>>(), len)
+        };
+        let mean = Curves {
+            label: label.clone(),
+            colour: k.colour(),
+            success: mean_of(|c| &c.success, SUCCESS_STEPS),
+            precision: mean_of(|c| &c.precision, PRECISION_MAX_PX + 1),
+        };
+        match plotted.len() {
+            0 => continue,
+            1 => plotted[0].colour = k.colour(),
+            _ => plotted.push(Curves {
+                label: "mean".into(),
+                ..mean.clone()
+            }),
         }
         let stem = if several {
             format!("_{k}")
         } else {
             String::new()
         };
-        let title = format!("{k}, {particles} particles");
-        files.extend(plot_pair(
-            dir, &stem, &title, &labels, &success, &precision,
-        )?);
-        labels_all.push(format!("{k} mean"));
-        success_all.push(mean_success);
-        precision_all.push(mean_precision);
+        files.extend(plot_pair(dir, &stem, &label, &plotted)?);
+        means.push(mean);
     }
-    if several && !labels_all.is_empty() {
-        let title = format!("mean over sequences, {particles} particles");
-        files.extend(plot_pair(
-            dir,
-            "",
-            &title,
-            &labels_all,
-            &success_all,
-            &precision_all,
-        )?);
+    if several && !means.is_empty() {
+        files.extend(plot_pair(dir, "", "mean over sequences", &means)?);
     }
     Ok(files)
 }

@@ -118,10 +118,12 @@ pub fn follow(args: &FollowArgs, out: &mut dyn Write) -> Result<(), Failure> {
         Series {
             label: "distance of the target from the centre / view width",
             values: &error,
+            colour: args.tracker.colour(),
         },
         Series {
             label: "band",
             values: &band,
+            colour: draw::palette(0),
         },
     ];
     draw::error_plot(&path, &title, "share of the view's width", &series).map_err(fail)?;

@@ -33,7 +33,7 @@ pub use track::track;
 
 use crate::cf64;
 use crate::config_fields::Overrides;
-use crate::draw::{self, Rgb};
+use crate::draw::Rgb;
 use crate::paper;
 use crate::run::{CoreCf, RunError, CF_SHAPES};
 use args::{ConfigArgs, PaperArgs};
@@ -136,15 +136,17 @@ impl TrackerKind {
         }
     }
 
-    /// Colour of its estimates drawn on frames: RBPF yellow, PF cyan, cf64 magenta, cf orange (from
-    /// [`draw::TRACKER_COLOURS`]; red and blue would vanish on the synthetic target's red
-    /// shirt and blue trousers). Plots colour their curves in series order instead.
+    /// Its colour in every picture: its estimates on frames, its curves in plots, the
+    /// browser page's (`web/www/rbtrack.js`, `TRACKER_COLOURS`). cf orange, RBPF yellow,
+    /// PF cyan, cf64 magenta: apart from the ground truth's green, and from red and blue,
+    /// which would vanish on the synthetic target's red shirt and blue trousers; dark
+    /// enough to read on a plot's white.
     pub fn colour(self) -> Rgb {
         match self {
-            Self::Rbpf => draw::tracker_colour(2),
-            Self::Pf => draw::tracker_colour(4),
-            Self::Cf64 => draw::tracker_colour(3),
-            Self::Cf => draw::tracker_colour(5),
+            Self::Cf => [255, 128, 0],
+            Self::Rbpf => [230, 185, 0],
+            Self::Pf => [0, 190, 210],
+            Self::Cf64 => [220, 0, 220],
         }
     }
 

@@ -3,7 +3,7 @@
 
 use super::runs::{status_name, RunResult, SequenceResult, Start};
 use super::{fail, Failure, TrackerKind};
-use crate::draw::{self, Series};
+use crate::draw::{self, Rgb, Series};
 use crate::loss::{LossReport, FLAG_WITHIN, GOOD_IOU, LOST_IOU};
 use crate::sequence::GtOrigin;
 use serde::Serialize;
@@ -361,34 +361,48 @@ pub fn tracker_table(runs: &[RunResult]) -> String {
     render_table(&header, &cells, 1)
 }
 
+/// One line of a success plot and of a precision plot.
+#[derive(Clone)]
+pub struct Curves {
+    /// Legend text.
+    pub label: String,
+    /// Colour of both lines.
+    pub colour: Rgb,
+    /// Success rate per overlap threshold.
+    pub success: Vec<f64>,
+    /// Precision per location error threshold.
+    pub precision: Vec<f64>,
+}
+
 /// Writes `success{stem}.png` and `precision{stem}.png` into `dir`.
 pub fn plot_pair(
     dir: &Path,
     stem: &str,
     title: &str,
-    labels: &[String],
-    success: &[Vec<f64>],
-    precision: &[Vec<f64>],
+    curves: &[Curves],
 ) -> Result<Vec<PathBuf>, Failure> {
-    fn series<'a>(labels: &'a [String], curves: &'a [Vec<f64>]) -> Vec<Series<'a>> {
-        labels
+    let series = |values: fn(&Curves) -> &[f64]| -> Vec<Series<'_>> {
+        curves
             .iter()
-            .zip(curves)
-            .map(|(label, values)| Series { label, values })
+            .map(|c| Series {
+                label: &c.label,
+                values: values(c),
+                colour: c.colour,
+            })
             .collect()
-    }
+    };
     let sp = dir.join(format!("success{stem}.png"));
     let pp = dir.join(format!("precision{stem}.png"));
     draw::success_plot(
         &sp,
         &format!("Success plot: {title}"),
-        &series(labels, success),
+        &series(|c| &c.success),
     )
     .map_err(fail)?;
     draw::precision_plot(
         &pp,
         &format!("Precision plot: {title}"),
-        &series(labels, precision),
+        &series(|c| &c.precision),
     )
     .map_err(fail)?;
     Ok(vec![sp, pp])

@@ -29,6 +29,20 @@ pub struct RunSpec {
     pub start: Start,
 }
 
+impl RunSpec {
+    /// The tracker and its size, as plots name it: `cf, 16 x 16 cells, 8 scales` for a
+    /// correlation-filter tracker, `pf, 100 particles` for a particle filter of
+    /// `particles`.
+    pub fn label(&self, particles: usize) -> String {
+        let (grid, scales) = match (&self.cf, &self.cf64) {
+            (Some(cf), _) => (cf.grid, cf.scales),
+            (None, Some(cf64)) => (cf64.grid, cf64.scales),
+            (None, None) => return format!("{}, {particles} particles", self.tracker),
+        };
+        format!("{}, {grid} x {grid} cells, {scales} scales", self.tracker)
+    }
+}
+
 /// A run's first box: the given (ground-truth) box shifted by `dx`, `dy` px and scaled by
 /// `scale` about its centre, as in OTB's spatial robustness evaluation (SRE).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -380,4 +394,24 @@ pub fn write_boxes(path: &Path, boxes: &[BBox], origin: GtOrigin) -> Result<(), 
         .collect();
     create_parent(path)?;
     std::fs::write(path, text).map_err(|e| fail(format!("cannot write {}: {e}", path.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rbtrack::tracker::Variant;
+
+    #[test]
+    fn labels_name_each_trackers_own_size() {
+        let spec = |tracker, cf| RunSpec {
+            tracker,
+            config: Config::new(Variant::Rbpf),
+            cf64: None,
+            cf,
+            start: Start::GIVEN,
+        };
+        let cf = spec(TrackerKind::Cf, Some(CoreCf::default()));
+        assert_eq!(cf.label(100), "cf, 16 x 16 cells, 8 scales");
+        assert_eq!(spec(TrackerKind::Pf, None).label(50), "pf, 50 particles");
+    }
 }
