@@ -93,7 +93,7 @@
 #if defined(RBT_POINTER_64)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_CF_SIZE 70696
+#define RBT_TRACKER_CF_SIZE 70688
 #endif
 
 // Alignment of every tracker's memory, bytes.
@@ -383,6 +383,10 @@ typedef struct {
   rbt_q16 redetect_colour;
   // While lost, search where the velocity it had when lost puts the target (flag).
   uint8_t coast;
+  // Change the size only on frames whose confidence is at least this, Q16.16.
+  rbt_q16 scale_above;
+  // Centre the search this share of the smoothed velocity ahead, Q16.16 in [0, 1].
+  rbt_q16 lead;
 } rbt_cf_config;
 
 // A camera frame, borrowed for the call.

@@ -9,8 +9,10 @@
 //! the core), and a refused `start` leaves the tracker as it was; an unstarted tracker's
 //! step changes nothing; after every step or camera motion the centre lies inside the
 //! frame the tracker started on (a frame of another size is read clamped, the estimate
-//! stays in the start frame), the half-axes are positive, the confidence is in `[0, 1]`
-//! and a step's status is the one its confidence and the last status give
+//! stays in the start frame), the size keeps the first box's aspect ratio, each side is at
+//! least 4 px and at most the frame's (or the first box's, if larger), the confidence is
+//! in `[0, 1]`; a step changes the size by at most `max_scale_change`, not at all below
+//! `scale_above`, and its status is the one its confidence and the last status give
 //! ([`rbtrack_fuzz::check_cf_estimate`]).
 #![no_main]
 
@@ -21,7 +23,8 @@ use rbtrack::profile::CycleCounter;
 use rbtrack::tracker::{CameraMotion, CfTracker};
 use rbtrack::window::Ellipse;
 use rbtrack_fuzz::{
-    cf_init_is_valid, check_cf_estimate, with_format, CfConfigSpec, Format, FrameSpec, RectSpec, Q,
+    cf_init_is_valid, check_cf_estimate, with_format, CfConfigSpec, CfStart, Format, FrameSpec,
+    RectSpec, Q,
 };
 
 /// Tracker sizes: binning, bins `B`, grid `G`, scales `S`.
@@ -76,10 +79,10 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
     };
     // On the heap, started in place: up to ~180 KB.
     let mut tracker: Box<CfTracker<Bn, B, G, S>> = Box::new(CfTracker::unstarted());
-    // The size of the frame the tracker (re)started on, once started.
-    let mut started: Option<(usize, usize)> = None;
+    // The frame and box the tracker (re)started on, once started.
+    let mut started: Option<CfStart> = None;
     let restart = |tracker: &mut CfTracker<Bn, B, G, S>,
-                   started: &mut Option<(usize, usize)>,
+                   started: &mut Option<CfStart>,
                    config: &CfConfigSpec,
                    view: &ImageView<'_, P>,
                    spec: RectSpec| {
@@ -93,7 +96,11 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
                 assert!(acceptable, "accepted {config:?} {init:?}");
                 assert_eq!(tracker.config(), &config);
                 assert_eq!(tracker.estimate().ellipse, Ellipse::from(init));
-                *started = Some((view.width(), view.height()));
+                *started = Some(CfStart {
+                    width: view.width(),
+                    height: view.height(),
+                    size: (init.w, init.h),
+                });
             }
             Err(e) => {
                 assert!(!acceptable, "refused ({e}) {config:?} {init:?}");
@@ -115,14 +122,14 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
     );
 
     let check = |tracker: &CfTracker<Bn, B, G, S>,
-                 started: Option<(usize, usize)>,
+                 started: Option<CfStart>,
                  before: &rbtrack::tracker::Estimate,
                  e: &rbtrack::tracker::Estimate,
                  stepped: bool| {
         assert_eq!(e, tracker.estimate());
-        let previous = stepped.then_some(before.status);
+        let previous = stepped.then_some(before);
         match started {
-            Some((w, h)) => check_cf_estimate(e, tracker.config(), w, h, previous),
+            Some(start) => check_cf_estimate(e, tracker.config(), &start, previous),
             None => assert_eq!(e, before, "an unstarted tracker stays as it is"),
         }
     };

@@ -517,6 +517,8 @@ pub struct CfConfigSpec {
     pub redetect_above: Option<Q>,
     pub redetect_colour: Option<Q>,
     pub coast: Option<bool>,
+    pub scale_above: Option<Q>,
+    pub lead: Option<Q>,
 }
 
 impl CfConfigSpec {
@@ -568,6 +570,8 @@ impl CfConfigSpec {
         if let Some(v) = self.coast {
             c.coast = v;
         }
+        set(&mut c.scale_above, self.scale_above);
+        set(&mut c.lead, self.lead);
         c
     }
 }
@@ -638,18 +642,31 @@ pub fn cf_init_is_valid(init: &Rect, width: usize, height: usize) -> bool {
         && inside(init.y, init.h, height)
 }
 
+/// What a correlation-filter tracker started on: the frame's size and the first box's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CfStart {
+    /// Frame width, px.
+    pub width: usize,
+    /// Frame height, px.
+    pub height: usize,
+    /// The first box's width and height, px.
+    pub size: (Q16, Q16),
+}
+
 /// Checks the documented guarantees of a correlation-filter step (or camera motion) when
-/// the tracker started on a `width x height` frame: centre inside that frame, half-axes
-/// positive, confidence in `[0, 1]`, and, for a step after an estimate of status
-/// `previous`, the status the confidence and `config`'s thresholds give (`Lost` below
-/// `lost_below`, and after `Lost` below `uncertain_below`).
+/// the tracker started as `start` says: centre inside that frame; the first box's aspect
+/// ratio; each side at least 4 px and at most the frame's side or the first box's, if
+/// larger; confidence in `[0, 1]`; and, for a step after the estimate `previous`, a size at
+/// most `max_scale_change` from its size, the same size when the confidence is below
+/// `scale_above`, and the status the confidence and `config`'s thresholds give (`Lost`
+/// below `lost_below`, and after `Lost` below `uncertain_below`).
 pub fn check_cf_estimate(
     e: &Estimate,
     config: &CfConfig,
-    width: usize,
-    height: usize,
-    previous: Option<Status>,
+    start: &CfStart,
+    previous: Option<&Estimate>,
 ) {
+    let (width, height) = (start.width, start.height);
     let el = e.ellipse;
     let max_x = Q16::from_int(width as i32 - 1);
     let max_y = Q16::from_int(height as i32 - 1);
@@ -663,8 +680,27 @@ pub fn check_cf_estimate(
         "cy {:?} in {width}x{height}",
         el.cy
     );
-    for h in [el.hx, el.hy] {
-        assert!(h > Q16::ZERO, "half-axis {h:?} in {width}x{height}");
+    // Sizes in Q16.16 bits: a half-axis is half the size, floored, off by at most 2 bits.
+    let bits = |v: Q16| i128::from(v.to_bits());
+    let (w0, h0) = (bits(start.size.0), bits(start.size.1));
+    let (hx, hy) = (bits(el.hx), bits(el.hy));
+    let slack = 4 * (w0 + h0);
+    assert!(
+        (2 * hx * h0 - 2 * hy * w0).abs() <= slack,
+        "aspect {:?} x {:?} of a first box {:?}",
+        el.hx,
+        el.hy,
+        start.size
+    );
+    let four = 4i128 << 16;
+    let most = |frame: usize, first: i128| (i128::from(frame as i32) << 16).max(first);
+    for (half, frame, first) in [(hx, width, w0), (hy, height, h0)] {
+        assert!(
+            2 * half >= four - 4 && 2 * half <= most(frame, first) + 4,
+            "side {} px in {width}x{height}, first box {:?}",
+            2 * half / 65536,
+            start.size
+        );
     }
     assert!(
         e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE,
@@ -672,6 +708,21 @@ pub fn check_cf_estimate(
         e.confidence
     );
     if let Some(previous) = previous {
+        let before = bits(previous.ellipse.hx);
+        if e.confidence < config.scale_above {
+            assert_eq!(el.hx, previous.ellipse.hx, "confidence {:?}", e.confidence);
+            assert_eq!(el.hy, previous.ellipse.hy, "confidence {:?}", e.confidence);
+        }
+        // hx <= m before and before <= m hx, m in Q16.16, each side off by 2 bits.
+        let m = bits(config.max_scale_change);
+        assert!(
+            (hx - 2) << 16 <= m * (before + 2) && (before - 2) << 16 <= m * (hx + 2),
+            "half-width {:?} after {:?}, at most {:?} apart",
+            el.hx,
+            previous.ellipse.hx,
+            config.max_scale_change
+        );
+        let previous = previous.status;
         let held = previous == Status::Lost && e.confidence < config.uncertain_below;
         let status = if e.confidence < config.lost_below || held {
             Status::Lost

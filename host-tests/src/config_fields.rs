@@ -325,14 +325,28 @@ pub enum Preset {
     Default,
     /// `Config::paper`: the source papers' trackers.
     Paper,
+    /// The core's integer correlation-filter tracker at its defaults: for cf64, its f64
+    /// reference (`cf64::Params::of_core`); for the other trackers, their defaults.
+    Core,
 }
 
 impl Preset {
     /// The preset's configuration of `variant`.
     pub fn config(self, variant: Variant) -> Config {
         match self {
-            Preset::Default => Config::new(variant),
+            Preset::Default | Preset::Core => Config::new(variant),
             Preset::Paper => Config::paper(variant),
+        }
+    }
+
+    /// The f64 correlation-filter tracker's settings the preset starts from.
+    pub fn cf_params(self) -> cf64::Params {
+        match self {
+            Preset::Default | Preset::Paper => cf64::Params::default(),
+            Preset::Core => {
+                let core = crate::run::CoreCf::default();
+                cf64::Params::of_core(&core.config, core.grid, core.scales)
+            }
         }
     }
 }
@@ -383,9 +397,10 @@ impl Overrides {
         Ok(config)
     }
 
-    /// `cf64::Params::default()` with every `cf.` setting applied, checked.
+    /// The preset's cf64 settings ([`Preset::cf_params`]) with every `cf.` setting
+    /// applied, checked.
     pub fn cf_params(&self) -> Result<cf64::Params, String> {
-        self.cf_params_on(cf64::Params::default())
+        self.cf_params_on(self.1.cf_params())
     }
 
     /// `base` with the `cf.` fields set, checked.

@@ -2,7 +2,7 @@
 //! mean luma and Felzenszwalb's 9 unsigned orientation channels (fHOG), in Q15.
 //!
 //! The integer port of the host's f64 reference (`cf64::fhog::features` of
-//! `RgbImage::patch(..).greyed()`, grey channel and `Hog::Unsigned9`), in one pass over the
+//! `RgbImage::luma_patch(..)`, grey channel and `Hog::Unsigned9`), in one pass over the
 //! patch, row by row:
 //! - **Resampling.** Patch pixel `i` of an axis is centred at `left + (i + 1/2) step` px
 //!   of the frame, `step = size / out`, positions in Q32.32 (`step` rounded down, off by
@@ -32,16 +32,14 @@
 //!   division, and channel `o` of a cell is `1/2 sum over its 4 blocks of
 //!   min(t_o s n, 0.2)`, Q31 before the final rounding.
 //!
-//! Error against the f64 reference (host test `cf_features`, Gray8 frames, synthetic and
-//! real, 11 regions each: shrinking, growing, oblong, past the edge, cells of 2 to 8 px):
-//! the grey channel within `2.3e-5`. The fHOG channels within `9e-5` (mean `1.2e-5`) of
-//! the reference fed the patch rounded to `1/256` as here; against the exact patch, mean
-//! `5e-5` to `2.2e-4`, with 0.4 to 1.4 % of the values off by more than `1e-3` and a few by
-//! up to 0.4: where
-//! the rounding moves a pixel's gradient across a bin boundary (or where the reference's
-//! last-bit noise tips an exactly vertical gradient, on the 90 degree boundary, into
-//! either bin), the pixel's share of a cell moves from one channel to the next, and a
-//! strong pixel in a weak block moves a whole clipped value.
+//! Error against the f64 reference (host test `cf_features`, Gray8 and RGB frames,
+//! synthetic and real, 11 regions each: shrinking, growing, oblong, past the edge, cells of
+//! 2 to 8 px), which reads the frame's 8-bit luma and keeps its patch to `1/256` as here:
+//! the grey channel within `2.3e-5`, the fHOG channels within `9e-5` (mean `1.2e-5`). The
+//! rounding to `1/256` is part of the definition: without it, mean `5e-5` to `2.2e-4`, with
+//! 0.4 to 1.4 % of the values off by more than `1e-3` and a few by up to 0.4, where it
+//! moves a pixel's gradient across a bin boundary and the pixel's share of a cell from one
+//! channel to the next (a strong pixel in a weak block moves a whole clipped value).
 //!
 //! Working memory, on the stack, for a patch of at most 256 px a side: the columns' source
 //! pixels and weights (`256 x 8` bytes) and the luma of two frame rows at them

@@ -3,8 +3,9 @@
 //! host's `cf64::scale` with 9 unsigned channels of the luma and no window over the scales.
 //!
 //! Sample `s` is the target's box times `step^(mid - s)`, `mid = ceil(S / 2) - 1`,
-//! resampled to a model size fixed by the first box (area at most `area` px^2, each side
-//! at least `2 cell` px, at most [`MAX_CELLS`] cells) and described by the 9 unsigned fHOG
+//! resampled to a model size fixed by the first box (area at most `area` px^2, small boxes
+//! grown to 3 cells a side, in whole cells, at least 2 a side, at most [`MAX_CELLS`]) and
+//! described by the 9 unsigned fHOG
 //! channels of its cells: one column of `D` features. Per feature `d`, `X_d` is the 1-D
 //! transform of its row over the scales; the filter keeps
 //! `A_d <- (1 - eta) A_d + eta Y conj(X_d)` and `B <- (1 - eta) B + eta sum_d |X_d|^2`,
@@ -46,7 +47,7 @@
 //! responses agree within 2.9e-5 and the size factors within 7.7e-6; each on its own
 //! features of the frame, the factors within 4e-3, the features' difference
 //! (`host-tests/tests/cf_scale.rs`). Stack: 640 bytes of cells for one sample, a few
-//! hundred more; the filter itself is 18,624 bytes for `S = 8` on a 32-bit target.
+//! hundred more; the filter itself is 18,616 bytes for `S = 8` on a 32-bit target.
 
 use super::features::{self, Cell, Sampling, CHANNELS};
 use crate::fft::{forward, inverse, mirrored, Complex};
@@ -127,20 +128,18 @@ impl ScaleSettings {
     }
 }
 
-/// The sampled grid: cells across and down, and the model size they lie in, px.
+/// The sampled grid: cells across and down.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Grid {
     cols: usize,
     rows: usize,
-    /// Model width and height, px (`>= cols cell`, `>= rows cell`).
-    width: usize,
-    height: usize,
 }
 
 impl Grid {
     /// The model of a first box of `size` px (Q16.16) as the host's: each side times
-    /// `min(1, sqrt(area / (w h)))`, floored, at least `2 cell`; `cell`-px cells of it from
-    /// its top left corner, at most [`MAX_CELLS`] (a longer side cut).
+    /// `sqrt(area / (w h))` where that shrinks it, else grown (up to that) until the shorter
+    /// side is 3 cells; in whole cells, at least 2, at most [`MAX_CELLS`] (the longer side
+    /// cut to `MAX_CELLS` over the other's cells, that at most half of them).
     fn new(settings: &ScaleSettings, size: (Q16, Q16)) -> Self {
         let one = Q16::ONE.to_bits() as u64;
         let (w, h) = (
@@ -148,44 +147,38 @@ impl Grid {
             size.1.to_bits().max(1 << 16) as u64,
         );
         let area = settings.area as u64;
+        // floor(a sqrt(area / (a b))) = floor(sqrt(area a / b))
+        let fit = |a: u64, b: u64| isqrt_u64((area * a).checked_div(b).unwrap_or(0));
+        let shorter = w.min(h);
+        let least = (3 * settings.cell as u64) << 16;
         let side = |a: u64, b: u64| match (a * b) >> 32 > area {
-            // floor(a sqrt(area / (a b))) = floor(sqrt(area a / b))
-            true => isqrt_u64((area * a).checked_div(b).unwrap_or(0)),
-            false => a / one,
+            true => fit(a, b),
+            false if shorter >= least => a / one,
+            false => (a * least / shorter / one).min(fit(a, b)),
         };
-        let min = 2 * settings.cell;
-        let (width, height) = (
-            (side(w, h) as usize).max(min),
-            (side(h, w) as usize).max(min),
-        );
-        let cols = width.checked_div(settings.cell).unwrap_or(0);
-        let rows = height.checked_div(settings.cell).unwrap_or(0);
+        let cells = |a: u64, b: u64| {
+            (side(a, b) as usize)
+                .checked_div(settings.cell)
+                .unwrap_or(0)
+                .max(2)
+        };
+        let (cols, rows) = (cells(w, h), cells(h, w));
         let (cols, rows) = if cols * rows <= MAX_CELLS {
             (cols, rows)
         } else if cols >= rows {
             let rows = rows.min(MAX_CELLS / 2);
-            (MAX_CELLS.checked_div(rows).unwrap_or(0), rows)
+            (MAX_CELLS / rows, rows)
         } else {
             let cols = cols.min(MAX_CELLS / 2);
-            (cols, MAX_CELLS.checked_div(cols).unwrap_or(0))
+            (cols, MAX_CELLS / cols)
         };
-        // A side cut to fewer cells is as long as they are.
-        let fit = |side: usize, cells: usize| match side / settings.cell.max(1) == cells {
-            true => side,
-            false => cells * settings.cell,
-        };
-        Self {
-            cols,
-            rows,
-            width: fit(width, cols),
-            height: fit(height, rows),
-        }
+        Self { cols, rows }
     }
 }
 
 /// The scale filter, `S` scales (a power of two, `2..=64`).
 ///
-/// 18,624 bytes for `S = 8` on a 32-bit target (18,664 on a 64-bit host): the numerator
+/// 18,616 bytes for `S = 8` on a 32-bit target (18,648 on a 64-bit host): the numerator
 /// and the last samples' spectra, packed in pairs, `MAX_FEATURES / 2 x S` complex each
 /// (9,216 bytes), and `S` values of the rest.
 #[derive(Clone, Debug)]
@@ -218,12 +211,7 @@ impl<const S: usize> ScaleFilter<S> {
     /// A filter with nothing learnt, every bit zero.
     pub const UNSET: Self = Self {
         settings: ScaleSettings::UNSET,
-        grid: Grid {
-            cols: 0,
-            rows: 0,
-            width: 0,
-            height: 0,
-        },
+        grid: Grid { cols: 0, rows: 0 },
         features: 0,
         pairs: 0,
         cost: Q16::ZERO,
@@ -354,25 +342,16 @@ impl<const S: usize> ScaleFilter<S> {
         centre: (Q16, Q16),
         size: (Q16, Q16),
     ) {
-        let Grid {
-            cols,
-            rows,
-            width,
-            height,
-        } = self.grid;
+        let Grid { cols, rows } = self.grid;
         let cell = self.settings.cell;
         let mut cells: [Cell; MAX_CELLS] = [[0; CHANNELS]; MAX_CELLS];
         for (s, &f) in self.factors.iter().enumerate() {
             let extent = |side: Q16| side.saturating_mul(f).max(Q16::from_int(2));
-            let (ew, eh) = (extent(size.0), extent(size.1));
-            // The cells cover the model's first `cols cell` px of `width`, as the host's.
-            let (sw, ox) = covered(ew, cols * cell, width);
-            let (sh, oy) = covered(eh, rows * cell, height);
             let sampling = Sampling {
-                cx: centre.0.saturating_add(ox),
-                cy: centre.1.saturating_add(oy),
-                width: sw,
-                height: sh,
+                cx: centre.0,
+                cy: centre.1,
+                width: extent(size.0),
+                height: extent(size.1),
                 cols,
                 rows,
                 cell,
@@ -498,16 +477,6 @@ impl<const S: usize> ScaleFilter<S> {
         rescale(&mut y, e);
         y
     }
-}
-
-/// The part of an extent of `extent` px (Q16.16) the cells cover, `cells` of `model` px,
-/// and the shift of its centre from the extent's: `extent cells / model` and
-/// `extent (cells - model) / (2 model)`, px, Q16.16.
-fn covered(extent: Q16, cells: usize, model: usize) -> (Q16, Q16) {
-    let e = i64::from(extent.to_bits());
-    let (c, m) = (cells as i64, model as i64);
-    let part = |n: i64, d: i64| Q16::saturate((e * n).checked_div(d).unwrap_or(0));
-    (part(c, m), part(c - m, 2 * m))
 }
 
 /// Stores the features `values` (Q15) as sample `s` of the pair rows `rows`, Q21: feature
@@ -656,19 +625,21 @@ mod tests {
     fn the_model_is_the_hosts() {
         let f = ScaleFilter::<8>::from_features(SETTINGS, SIZE, &[]);
         assert_eq!(f.features(), 225);
-        assert_eq!(
-            f.grid,
-            Grid {
-                cols: 5,
-                rows: 5,
-                width: 22,
-                height: 22
-            }
-        );
-        // A long box: 101 x 8 px in the host, cut to 16 x 2 cells here.
+        let grid = |cols, rows| Grid { cols, rows };
+        // 60 x 60 px: 22 x 22 px, 5 x 5 cells.
+        assert_eq!(f.grid, grid(5, 5));
+        // A long box: 101 x 8 px, 25 x 2 cells, cut to 16 x 2.
         let long = (Q16::from_int(200), Q16::from_int(10));
-        let g = Grid::new(&SETTINGS, long);
-        assert_eq!((g.cols, g.rows, g.width, g.height), (16, 2, 64, 8));
+        assert_eq!(Grid::new(&SETTINGS, long), grid(16, 2));
+        // A small one: 10 x 9 px grows to 13 x 12 px, 3 x 3 cells.
+        let small = (Q16::from_int(10), Q16::from_int(9));
+        assert_eq!(Grid::new(&SETTINGS, small), grid(3, 3));
+        // 16 x 26 px (416 px^2) stays as it is: 4 x 6 cells.
+        let mid = (Q16::from_int(16), Q16::from_int(26));
+        assert_eq!(Grid::new(&SETTINGS, mid), grid(4, 6));
+        // One too thin for 2 cells across takes 2.
+        let thin = (Q16::from_int(4), Q16::from_int(200));
+        assert_eq!(Grid::new(&SETTINGS, thin), grid(2, 16));
         let want = [
             1.08f64.powi(3),
             1.08f64.powi(2),
@@ -701,7 +672,7 @@ mod tests {
 
     #[test]
     fn its_size_is_stated() {
-        assert_eq!(core::mem::size_of::<ScaleFilter<8>>(), 18_664);
+        assert_eq!(core::mem::size_of::<ScaleFilter<8>>(), 18_648);
         assert!(core::mem::size_of::<ScaleFilter<8>>() <= 24 * 1024);
     }
 

@@ -3,17 +3,20 @@
 //! tests.
 //!
 //! # One step
-//! 1. The search region (the target plus `padding` times the mean of its sides, each way)
-//!    around the last position is resampled to `G x G` cells of `cell` px, each the mean
-//!    luma and 9 fHOG channels ([`crate::cf::features`]).
+//! 1. The search region (the target plus `padding` times the mean of its sides, each way),
+//!    centred `lead` of the smoothed velocity ahead of the last position, is resampled to
+//!    `G x G` cells of `cell` px, each the mean luma and 9 fHOG channels
+//!    ([`crate::cf::features`]).
 //! 2. The translation filter answers with a response over the grid
 //!    ([`crate::cf::filter`]), one value per move of whole cells.
 //! 3. The colour model gives, per move, the mean object probability of a target-sized
 //!    box there ([`crate::cf::colour`], `2G x 2G` samples of the region).
-//! 4. The two merge as `(1 - merge) filter + merge colour`; the best move, refined between
+//! 4. The two merge as `(1 - merge) filter + merge colour` over the moves that keep the
+//!    target box inside the region, each axis on its own; the best move, refined between
 //!    cells by parabolas, is the new position and the merged peak the confidence.
 //! 5. The scale filter ([`crate::cf::scale`]) finds the size there, at most
-//!    `max_scale_change` away from the last.
+//!    `max_scale_change` away from the last; the size changes only when the confidence is
+//!    at least `scale_above`.
 //! 6. When the confidence is at least `learn_above`, the three models learn the frame:
 //!    the search region's spectra and colour samples with the target where it was found,
 //!    and the scale samples.
@@ -93,6 +96,9 @@ pub struct CfConfig {
     pub max_scale_change: Q16,
     /// Learn only from frames whose confidence is at least this, Q16.16.
     pub learn_above: Q16,
+    /// Change the size only on frames whose confidence is at least this, Q16.16: a
+    /// frame too unsure of where the target is cannot say how big it is.
+    pub scale_above: Q16,
     /// Below this confidence the target is uncertain, Q16.16 in `[0, 1]`.
     pub uncertain_below: Q16,
     /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]`; once lost, it
@@ -110,6 +116,9 @@ pub struct CfConfig {
     /// While lost, search where the target would be had it kept the velocity it had when
     /// lost.
     pub coast: bool,
+    /// The search region is centred this share of the smoothed velocity ahead of the last
+    /// position, Q16.16 in `[0, 1]` (0: on it).
+    pub lead: Q16,
 }
 
 impl CfConfig {
@@ -124,7 +133,7 @@ impl CfConfig {
             cell: 4,
             sigma: q(1.0 / 16.0),
             lambda: 1_073_742,
-            cf_rate: q(0.01),
+            cf_rate: q(0.02),
             colour_rate: q(0.04),
             inner_padding: q(0.2),
             merge: q(0.3),
@@ -139,12 +148,14 @@ impl CfConfig {
             scale_rate: q(0.025),
             max_scale_change: q(1.08),
             learn_above: q(0.2),
+            scale_above: q(0.25),
             uncertain_below: q(0.3),
             lost_below: q(0.22),
             redetect: 2,
             redetect_above: q(0.3),
             redetect_colour: q(0.5),
             coast: false,
+            lead: q(0.5),
         }
     };
 
@@ -162,12 +173,14 @@ impl CfConfig {
         scale_rate: Q16::ZERO,
         max_scale_change: Q16::ZERO,
         learn_above: Q16::ZERO,
+        scale_above: Q16::ZERO,
         uncertain_below: Q16::ZERO,
         lost_below: Q16::ZERO,
         redetect: 0,
         redetect_above: Q16::ZERO,
         redetect_colour: Q16::ZERO,
         coast: false,
+        lead: Q16::ZERO,
     };
 }
 
@@ -211,7 +224,9 @@ impl CfConfig {
         )?;
         check(self.redetect <= RING.len(), "redetect")?;
         check(unit(self.redetect_above), "redetect_above")?;
-        check(unit(self.redetect_colour), "redetect_colour")
+        check(unit(self.redetect_colour), "redetect_colour")?;
+        check(unit(self.scale_above), "scale_above")?;
+        check(unit(self.lead), "lead")
     }
 }
 
@@ -252,8 +267,10 @@ pub struct CfTracker<Bn: Binning, const B: usize, const G: usize, const S: usize
     centre: (Q16, Q16),
     /// Target size, px, Q16.16.
     size: (Q16, Q16),
-    /// The first box's size, px, and the bounds of the size factor on it.
+    /// The first box's size, px, the size factor on it (the size is `base` times it,
+    /// kept so that no division rounds it frame after frame) and its bounds, Q16.16.
     base: (Q16, Q16),
+    factor: Q16,
     factor_bounds: (Q16, Q16),
     filter: Filter<G>,
     scale: ScaleFilter<S>,
@@ -309,6 +326,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             centre: (Q16::ZERO, Q16::ZERO),
             size: (Q16::ZERO, Q16::ZERO),
             base: (Q16::ZERO, Q16::ZERO),
+            factor: Q16::ZERO,
             factor_bounds: (Q16::ZERO, Q16::ZERO),
             filter: Filter::UNSET,
             scale: ScaleFilter::UNSET,
@@ -363,6 +381,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.centre = centre;
         self.size = size;
         self.base = size;
+        self.factor = Q16::ONE;
         self.velocity = (Q16::ZERO, Q16::ZERO);
         self.anchor = centre;
         self.lost_velocity = (Q16::ZERO, Q16::ZERO);
@@ -430,9 +449,17 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             let (vx, vy) = self.lost_velocity;
             self.anchor = self.inside((x.saturating_add(vx), y.saturating_add(vy)));
         }
+        let ahead = self.inside((
+            previous
+                .0
+                .saturating_add(self.velocity.0.saturating_mul(c.lead)),
+            previous
+                .1
+                .saturating_add(self.velocity.1.saturating_mul(c.lead)),
+        ));
         let search = match lost && c.coast {
             true => self.anchor,
-            false => previous,
+            false => ahead,
         };
         let ring = match lost {
             true => self.search_ring(frame, &mut watch, &mut cycles),
@@ -466,14 +493,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             .min(c.max_scale_change);
         cycles.scale = watch.lap();
         let old_size = self.size;
-        let f = self
-            .size
-            .0
-            .saturating_div(self.base.0)
-            .saturating_mul(factor)
-            .max(self.factor_bounds.0)
-            .min(self.factor_bounds.1);
-        self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
+        let factor = match confidence >= c.scale_above {
+            true => factor,
+            false => Q16::ONE,
+        };
+        self.resize(self.factor.saturating_mul(factor));
 
         if confidence >= c.learn_above {
             let cell = Q16::from_int(c.cell as i32);
@@ -519,12 +543,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let length = |(x, y): (Q16, Q16)| (motion.length(x), motion.length(y));
         self.velocity = length(self.velocity);
         self.lost_velocity = length(self.lost_velocity);
-        let f = motion
-            .length(self.size.0)
-            .saturating_div(self.base.0)
-            .max(self.factor_bounds.0)
-            .min(self.factor_bounds.1);
-        self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
+        self.resize(motion.length(self.factor));
         let e = self.estimate;
         self.estimate = Estimate {
             ellipse: self.ellipse(),
@@ -532,6 +551,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             vy: motion.length(e.vy),
             ..e
         };
+    }
+
+    /// Sets the size to the first box's times `factor` (Q16.16), within the size bounds.
+    fn resize(&mut self, factor: Q16) {
+        let f = factor.max(self.factor_bounds.0).min(self.factor_bounds.1);
+        self.factor = f;
+        self.size = (self.base.0.saturating_mul(f), self.base.1.saturating_mul(f));
     }
 
     /// The ellipse of the current centre and size (half-axes half the size), px.
@@ -565,13 +591,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         // The largest move the colour response can see, cells: the target box stays
         // inside the region.
         let side = Q16::from_int((G * c.cell) as i32);
-        let room = side
-            .saturating_sub(geometry.target.0)
-            .min(side.saturating_sub(geometry.target.1));
-        let reach = (room.floor_int() / 2)
-            .checked_div(c.cell as i32)
-            .unwrap_or(0)
-            .clamp(0, G as i32 / 2 - 1);
+        let reach_of = |target: Q16| {
+            (side.saturating_sub(target).floor_int() / 2)
+                .checked_div(c.cell as i32)
+                .unwrap_or(0)
+                .clamp(0, G as i32 / 2 - 1)
+        };
+        let (reach_x, reach_y) = (reach_of(geometry.target.0), reach_of(geometry.target.1));
         let cell = Q16::from_int(c.cell as i32);
         let merged = |dx: i32, dy: i32| -> i64 {
             let wrap = |d: i32| d.rem_euclid(G as i32) as usize;
@@ -590,8 +616,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             (((1 << 16) - m) * cf + m * colour) >> 16
         };
         let (mut best, mut at) = (i64::MIN, (0, 0));
-        for dy in -reach..=reach {
-            for dx in -reach..=reach {
+        for dy in -reach_y..=reach_y {
+            for dx in -reach_x..=reach_x {
                 let v = merged(dx, dy);
                 if v > best {
                     (best, at) = (v, (dx, dy));
@@ -599,14 +625,14 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             }
         }
         let (dx, dy) = at;
-        let between = |at: i32, value: &dyn Fn(i32) -> i64| {
+        let between = |at: i32, reach: i32, value: &dyn Fn(i32) -> i64| {
             if at <= -reach || at >= reach {
                 return Q16::ZERO;
             }
             parabola_peak(value(at - 1), best, value(at + 1))
         };
-        let fx = between(dx, &|x| merged(x, dy));
-        let fy = between(dy, &|y| merged(dx, y));
+        let fx = between(dx, reach_x, &|x| merged(x, dy));
+        let fy = between(dy, reach_y, &|y| merged(dx, y));
         // The move, patch px, then frame px.
         let moved = (
             cell.mul_int(dx).saturating_add(fx.saturating_mul(cell)),

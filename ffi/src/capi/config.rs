@@ -397,6 +397,10 @@ pub struct rbt_cf_config {
     pub redetect_colour: rbt_q16,
     /// While lost, search where the velocity it had when lost puts the target (flag).
     pub coast: u8,
+    /// Change the size only on frames whose confidence is at least this, Q16.16.
+    pub scale_above: rbt_q16,
+    /// Centre the search this share of the smoothed velocity ahead, Q16.16 in [0, 1].
+    pub lead: rbt_q16,
 }
 
 /// Calls `$apply!(field, ...)` with every Q16.16 field `rbt_cf_config` and `CfConfig`
@@ -416,7 +420,9 @@ macro_rules! cf_q16_fields {
             uncertain_below,
             lost_below,
             redetect_above,
-            redetect_colour
+            redetect_colour,
+            scale_above,
+            lead
         )
     };
 }

@@ -40,20 +40,6 @@ impl Patch {
         self.rgb[y * self.width + x]
     }
 
-    /// Every `step`-th pixel of every `step`-th row (the top-left of each `step x step`
-    /// block): the patch at `1 / step` of its resolution.
-    pub fn every(&self, step: usize) -> Patch {
-        if step <= 1 {
-            return self.clone();
-        }
-        let (width, height) = (self.width.div_ceil(step), self.height.div_ceil(step));
-        let rgb = (0..height)
-            .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| self.at(x * step, y * step))
-            .collect();
-        Patch { width, height, rgb }
-    }
-
     /// The patch in grey: every channel of a pixel its luma.
     pub fn greyed(&self) -> Patch {
         Patch {
@@ -82,6 +68,15 @@ impl RgbImage<'_> {
         ]
     }
 
+    /// The frame's 8-bit luma at a pixel, as the core reads it
+    /// ([`rbtrack::image::luma_of_rgb`]: `(77 R + 150 G + 29 B + 128) >> 8`), in every
+    /// channel.
+    fn luma(&self, x: usize, y: usize) -> [f64; 3] {
+        let i = (y * self.width + x) * 3;
+        let l = rbtrack::image::luma_of_rgb(self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]);
+        [f64::from(l); 3]
+    }
+
     /// The region of `size` px (width, height) centred on `centre` (px, pixel centres at
     /// integer coordinates) resampled to `out` px (width, height). Along an axis that
     /// shrinks, each output pixel is read as `resample` says; along one that grows, it is
@@ -94,6 +89,61 @@ impl RgbImage<'_> {
         out: (usize, usize),
         resample: Resample,
     ) -> Patch {
+        self.resampled(centre, size, out, resample, |x, y| self.pixel(x, y))
+    }
+
+    /// [`RgbImage::patch`] of the frame's 8-bit luma, as the core reads a frame's luma
+    /// before resampling it and keeps the result (to `1/256` of a grey level, a half
+    /// rounded up): every channel of a patch pixel its luma.
+    pub fn luma_patch(
+        &self,
+        centre: (f64, f64),
+        size: (f64, f64),
+        out: (usize, usize),
+        resample: Resample,
+    ) -> Patch {
+        let mut patch = self.resampled(centre, size, out, resample, |x, y| self.luma(x, y));
+        for p in &mut patch.rgb {
+            *p = [(p[0] * 256.0 + 0.5).floor() / 256.0; 3];
+        }
+        patch
+    }
+
+    /// The region of `size` px centred on `centre` read at `out` samples (width, height),
+    /// each the frame pixel nearest its centre (`left + (i + 1/2) size / out`, a half
+    /// rounded up), clamped into the frame: the colour samples the core reads.
+    pub fn nearest(&self, centre: (f64, f64), size: (f64, f64), out: (usize, usize)) -> Patch {
+        let at = |c: f64, len: f64, n: usize, limit: usize| -> Vec<usize> {
+            (0..n)
+                .map(|i| {
+                    let x = c - len / 2.0 + (i as f64 + 0.5) * len / n as f64;
+                    (x + 0.5).floor().clamp(0.0, limit as f64 - 1.0) as usize
+                })
+                .collect()
+        };
+        let xs = at(centre.0, size.0, out.0, self.width);
+        let ys = at(centre.1, size.1, out.1, self.height);
+        let rgb = ys
+            .iter()
+            .flat_map(|&y| xs.iter().map(move |&x| (x, y)))
+            .map(|(x, y)| self.pixel(x, y))
+            .collect();
+        Patch {
+            width: out.0,
+            height: out.1,
+            rgb,
+        }
+    }
+
+    /// [`RgbImage::patch`] of the pixels `read` gives.
+    fn resampled(
+        &self,
+        centre: (f64, f64),
+        size: (f64, f64),
+        out: (usize, usize),
+        resample: Resample,
+        read: impl Fn(usize, usize) -> [f64; 3],
+    ) -> Patch {
         let xs = taps(centre.0, size.0, out.0, self.width, resample);
         let ys = taps(centre.1, size.1, out.1, self.height, resample);
         let mut rgb = Vec::with_capacity(out.0 * out.1);
@@ -102,7 +152,7 @@ impl RgbImage<'_> {
                 let mut sum = [0.0; 3];
                 for &(y, wy) in ty {
                     for &(x, wx) in tx {
-                        let p = self.pixel(x, y);
+                        let p = read(x, y);
                         for c in 0..3 {
                             sum[c] += wy * wx * p[c];
                         }
@@ -199,14 +249,36 @@ mod tests {
     }
 
     #[test]
-    fn every_second_pixel_halves_the_patch() {
+    fn colour_samples_are_the_nearest_pixels() {
         let rgb = ramp(20, 10);
         let img = image(&rgb);
-        let p = img
-            .patch((9.5, 4.5), (20.0, 10.0), (20, 10), Resample::Area)
-            .every(2);
-        assert_eq!((p.width, p.height), (10, 5));
-        assert_eq!(p.at(3, 2), [6.0, 4.0, 7.0]);
+        // 4 x 2 samples over 8 x 4 px centred on (9.5, 4.5): centres 6.5, 8.5, 10.5, 12.5
+        // across (halves rounded up) and 3.5, 5.5 down.
+        let p = img.nearest((9.5, 4.5), (8.0, 4.0), (4, 2));
+        assert_eq!(p.at(0, 0), [7.0, 4.0, 7.0]);
+        assert_eq!(p.at(3, 1), [13.0, 6.0, 7.0]);
+        // Past the edge, the edge pixel.
+        assert_eq!(
+            img.nearest((0.0, 0.0), (8.0, 4.0), (4, 2)).at(0, 0),
+            [0.0, 0.0, 7.0]
+        );
+    }
+
+    #[test]
+    fn the_luma_patch_is_the_cores_8_bit_luma() {
+        let rgb = ramp(20, 10);
+        let img = image(&rgb);
+        let luma = |x: u32, y: u32| f64::from((77 * x + 150 * y + 29 * 7 + 128) >> 8);
+        let p = img.luma_patch((8.5, 4.5), (6.0, 4.0), (6, 4), Resample::Bilinear);
+        assert_eq!(p.at(0, 0), [luma(6, 3); 3]);
+        assert_eq!(p.at(5, 3), [luma(11, 6); 3]);
+        // Between pixels, interpolated and kept to 1/256.
+        let p = img.luma_patch((5.5, 5.5), (2.0, 2.0), (4, 4), Resample::Bilinear);
+        // The first output pixel's centre is at (4.75, 4.75).
+        let want = 0.25 * 0.25 * luma(4, 4)
+            + 0.25 * 0.75 * (luma(5, 4) + luma(4, 5))
+            + 0.75 * 0.75 * luma(5, 5);
+        assert_eq!(p.at(0, 0)[0], (want * 256.0 + 0.5).floor() / 256.0);
     }
 
     #[test]

@@ -3,16 +3,21 @@
 //! it is held to.
 //!
 //! Per frame ([`tracker`]):
-//! 1. the search region (the target plus the mean of its sides each way) around the last
-//!    position is resampled to a square patch of `grid x grid` cells ([`image`]);
+//! 1. the search region (the target plus the mean of its sides each way), centred `lead`
+//!    of the smoothed velocity ahead of the last position, is resampled to a square patch
+//!    of `grid x grid` cells ([`image`]; with `luma_gradient`, the frame's 8-bit luma as
+//!    the core reads it);
 //! 2. each cell gets fHOG channels and its mean grey ([`fhog`]), under a cosine window;
 //! 3. the multi-channel correlation filter answers with a response over the grid
 //!    ([`filter`], transforms by [`fft`]);
 //! 4. the colour model (object against surroundings, [`colour`]) gives the mean object
-//!    probability of a target-sized box at each cell, from an integral image;
-//! 5. the two merge (`(1 - merge) filter + merge colour`); the peak, refined between cells,
+//!    probability of a target-sized box at each cell, from an integral image of the
+//!    region's colour samples (the frame pixels nearest their centres);
+//! 5. the two merge (`(1 - merge) filter + merge colour`) over the moves that keep the
+//!    target box inside the region, each axis on its own; the peak, refined between cells,
 //!    is the move and its height the confidence;
-//! 6. the scale filter (DSST, [`scale`]) finds the size at the new position;
+//! 6. the scale filter (DSST, [`scale`]) finds the size at the new position, applied when
+//!    the confidence is at least `scale_above`;
 //! 7. if the confidence clears `learn_above`, all three models learn the frame; while it is
 //!    below `lost_below` the target is lost (until it reaches `uncertain_below` again),
 //!    and the tracker may coast on its last

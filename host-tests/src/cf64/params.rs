@@ -36,8 +36,8 @@ pub struct Params {
     pub cf_rate: f64,
     /// Bits per colour channel of the colour histograms (3: 8x8x8 bins).
     pub colour_bits: u32,
-    /// The colour model reads every `colour_step`-th pixel of every `colour_step`-th row
-    /// of the patch.
+    /// The colour model reads one sample per `colour_step` patch px each way, the frame
+    /// pixel nearest its centre.
     pub colour_step: usize,
     /// Learning rate of the colour histograms.
     pub colour_rate: f64,
@@ -71,8 +71,12 @@ pub struct Params {
     /// Learn only from frames whose confidence is at least this: an occluder or a
     /// look-alike scores low and is not learnt.
     pub learn_above: f64,
+    /// Change the size only on frames whose confidence is at least this.
+    pub scale_above: f64,
     /// While lost, search where the target would be had it kept its velocity.
     pub coast: bool,
+    /// The search is centred this share of the smoothed velocity ahead.
+    pub lead: f64,
     /// Below this confidence the target is uncertain.
     pub uncertain_below: f64,
     /// Below this confidence it is lost; once lost, it stays lost until the confidence
@@ -128,7 +132,9 @@ impl Default for Params {
             scale_window: true,
             scale_interpolate: false,
             learn_above: 0.2,
+            scale_above: 0.0,
             coast: false,
+            lead: 0.0,
             uncertain_below: 0.3,
             lost_below: 0.22,
             redetect: 0,
@@ -192,7 +198,9 @@ pub static FIELDS: &[Field] = field_table! {
     scale_window,
     scale_interpolate,
     learn_above,
+    scale_above,
     coast,
+    lead,
     uncertain_below,
     lost_below,
     redetect,
@@ -308,11 +316,11 @@ impl Params {
     }
     /// The f64 settings of the core's integer tracker configured by `c` on a `grid x grid`
     /// grid of cells and `scales` scales: its reference in the tests. The integer tracker
-    /// resamples bilinearly, reads fHOG gradients of the luma, the 9 unsigned channels and
-    /// the mean grey, colours in 3 bits a channel (the core's 8x8x8 bins) on every second
-    /// pixel of the patch, learns on the detection's patch and samples, and reads the
-    /// scale between samples without a window over them; while lost it searches as the
-    /// integer tracker does (`redetect`, `coast`).
+    /// resamples the frame's 8-bit luma bilinearly, reads its fHOG gradients, the 9
+    /// unsigned channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8
+    /// bins) at 2 samples a cell each way, learns on the detection's patch and samples,
+    /// and reads the scale between samples without a window over them; while lost it
+    /// searches as the integer tracker does (`redetect`, `coast`).
     pub fn of_core(c: &rbtrack::tracker::CfConfig, grid: usize, scales: usize) -> Self {
         let q = |v: rbtrack::Q16| v.to_f64();
         let step = q(c.scale.step);
@@ -344,12 +352,14 @@ impl Params {
             scale_window: false,
             scale_interpolate: c.scale.interpolate,
             learn_above: q(c.learn_above),
+            scale_above: q(c.scale_above),
             uncertain_below: q(c.uncertain_below),
             lost_below: q(c.lost_below),
             redetect: c.redetect,
             redetect_above: q(c.redetect_above),
             redetect_colour: q(c.redetect_colour),
             coast: c.coast,
+            lead: q(c.lead),
             fresh_patch: false,
             ..Self::default()
         }
@@ -405,12 +415,14 @@ impl Params {
             scale_rate: q(self.scale_rate),
             max_scale_change: q(self.scale_step.powf(self.scale_limit)),
             learn_above: q(self.learn_above),
+            scale_above: q(self.scale_above),
             uncertain_below: q(self.uncertain_below),
             lost_below: q(self.lost_below),
             redetect: self.redetect,
             redetect_above: q(self.redetect_above),
             redetect_colour: q(self.redetect_colour),
             coast: self.coast,
+            lead: q(self.lead),
         }
     }
 }

@@ -2,7 +2,8 @@
 //! pyramid of `S` scaled copies of the target.
 //!
 //! Sample `s` is the target's box times `step^(ceil(S / 2) - 1 - s)` (`s` from 0), resampled
-//! to a fixed model size of at most `area` px, described by its fHOG cells flattened into
+//! to a fixed model size of at most `area` px in whole cells ([`model_size`]), described by
+//! its fHOG cells flattened into
 //! one column of `D` values, optionally weighted by a Hann window over the scales. Per
 //! feature `d`, `X_d` is the 1-D transform of its row over the scales; the filter keeps
 //! `A_d <- (1 - eta) A_d + eta Y conj(X_d)` and `B <- (1 - eta) B + eta sum_d |X_d|^2`,
@@ -40,6 +41,37 @@ pub struct ScaleParams {
     pub resample: Resample,
 }
 
+/// Most cells of a sample, as the core's ([`rbtrack::cf::scale::MAX_CELLS`]).
+const MAX_CELLS: usize = rbtrack::cf::scale::MAX_CELLS;
+
+/// The model of a first box of `size` px: each side times `sqrt(area / (w h))` where that
+/// shrinks it, else grown (up to that) until the shorter side is 3 cells; in whole cells
+/// (at least 2), at most [`MAX_CELLS`] cells (the longer side cut to `MAX_CELLS` over the
+/// other's cells, that at most half of them), px.
+pub fn model_size(params: &ScaleParams, size: (f64, f64)) -> (usize, usize) {
+    let (w, h) = size;
+    let fit = (params.area / (w * h)).sqrt();
+    let shorter = w.min(h);
+    let least = (3 * params.cell) as f64;
+    let side = |v: f64| match fit < 1.0 {
+        true => v * fit,
+        false if shorter >= least => v,
+        false => (v * least / shorter).min(v * fit),
+    };
+    let cells = |v: f64| (side(v) as usize / params.cell).max(2);
+    let (cols, rows) = (cells(w), cells(h));
+    let (cols, rows) = if cols * rows <= MAX_CELLS {
+        (cols, rows)
+    } else if cols >= rows {
+        let rows = rows.min(MAX_CELLS / 2);
+        (MAX_CELLS / rows, rows)
+    } else {
+        let cols = cols.min(MAX_CELLS / 2);
+        (cols, MAX_CELLS / cols)
+    };
+    (cols * params.cell, rows * params.cell)
+}
+
 /// The scale filter.
 #[derive(Clone)]
 pub struct ScaleFilter {
@@ -47,7 +79,7 @@ pub struct ScaleFilter {
     /// Factor of sample `s` on the current size.
     factors: Vec<f64>,
     window: Vec<f64>,
-    /// Model size, px (width, height).
+    /// Model size, px (width, height), whole cells.
     model: (usize, usize),
     fft: Fft1,
     /// Numerator, feature-major: `num[d * S + s]`.
@@ -66,12 +98,7 @@ impl ScaleFilter {
         let s = params.scales;
         let mid = s.div_ceil(2) as f64 - 1.0;
         let factors = (0..s).map(|i| params.step.powf(mid - i as f64)).collect();
-        let shrink = (params.area / (size.0 * size.1)).sqrt().min(1.0);
-        let min = 2 * params.cell;
-        let model = (
-            ((size.0 * shrink) as usize).max(min),
-            ((size.1 * shrink) as usize).max(min),
-        );
+        let model = model_size(&params, size);
         let mut filter = Self {
             params,
             factors,
@@ -100,10 +127,10 @@ impl ScaleFilter {
         let mut columns = Vec::with_capacity(s);
         for (&f, &w) in self.factors.iter().zip(&self.window) {
             let extent = ((size.0 * f).max(2.0), (size.1 * f).max(2.0));
-            let patch = frame.patch(centre, extent, self.model, self.params.resample);
+            let resample = self.params.resample;
             let patch = match self.params.luma {
-                true => patch.greyed(),
-                false => patch,
+                true => frame.luma_patch(centre, extent, self.model, resample),
+                false => frame.patch(centre, extent, self.model, resample),
             };
             let feat = features(&patch, self.params.cell, self.params.hog, false);
             columns.push(feat.data.into_iter().map(|v| v * w).collect::<Vec<_>>());

@@ -62,7 +62,8 @@ pub struct Tracker {
 /// One search of a region: where the target is in it and how well it matches there.
 struct Detection {
     geometry: Geometry,
-    patch: Patch,
+    /// The region's colour samples.
+    colours: Patch,
     /// The region's windowed features, transformed.
     spectra: Vec<C64>,
     /// The target's centre, px.
@@ -73,10 +74,11 @@ struct Detection {
     peak: f64,
     /// The colour response there.
     colour: f64,
-    /// The merged response over the moves searched, `(2 reach + 1)^2` cells, row-major.
+    /// The merged response over the moves searched, `(2 reach.0 + 1) (2 reach.1 + 1)`
+    /// cells, row-major.
     merged: Vec<f64>,
-    /// The largest move searched, cells.
-    reach: i64,
+    /// The largest move searched, cells, across and down.
+    reach: (i64, i64),
     /// The region's centre, px.
     centre: (f64, f64),
 }
@@ -85,24 +87,22 @@ impl Detection {
     /// The merged response at `(x, y)` px, bilinear between cells; its least value outside
     /// the moves searched.
     fn map_at(&self, x: f64, y: f64, cell: f64) -> f64 {
-        let side = (2 * self.reach + 1) as usize;
-        if side == 1 {
-            return self.merged[0];
-        }
+        let side = (2 * self.reach.0 + 1) as usize;
+        let rows = (2 * self.reach.1 + 1) as usize;
         let zoom = self.geometry.zoom();
-        let u = (x - self.centre.0) * zoom.0 / cell + self.reach as f64;
-        let v = (y - self.centre.1) * zoom.1 / cell + self.reach as f64;
-        let top = (side - 1) as f64;
-        if !(0.0..=top).contains(&u) || !(0.0..=top).contains(&v) {
+        let u = (x - self.centre.0) * zoom.0 / cell + self.reach.0 as f64;
+        let v = (y - self.centre.1) * zoom.1 / cell + self.reach.1 as f64;
+        let (right, bottom) = ((side - 1) as f64, (rows - 1) as f64);
+        if !(0.0..=right).contains(&u) || !(0.0..=bottom).contains(&v) {
             return self.merged.iter().copied().fold(f64::INFINITY, f64::min);
         }
         let (u0, v0) = (
-            u.floor().min(top - 1.0).max(0.0),
-            v.floor().min(top - 1.0).max(0.0),
+            u.floor().min(right - 1.0).max(0.0),
+            v.floor().min(bottom - 1.0).max(0.0),
         );
         let (fu, fv) = (u - u0, v - v0);
         let (i, j) = (u0 as usize, v0 as usize);
-        let at = |a: usize, b: usize| self.merged[b * side + a];
+        let at = |a: usize, b: usize| self.merged[b.min(rows - 1) * side + a.min(side - 1)];
         (1.0 - fv) * ((1.0 - fu) * at(i, j) + fu * at(i + 1, j))
             + fv * ((1.0 - fu) * at(i, j + 1) + fu * at(i + 1, j + 1))
     }
@@ -145,12 +145,12 @@ impl Geometry {
         Region::centred((c + dx, c + dy), self.target)
     }
 
-    /// The largest move the colour response can see, cells: the target box stays inside
-    /// the patch.
-    fn reach(&self, cell: usize) -> i64 {
+    /// The largest move the colour response can see, cells, across and down: the target
+    /// box stays inside the patch.
+    fn reach(&self, cell: usize) -> (i64, i64) {
         let s = self.side as f64;
-        let room = ((s - self.target.0) / 2.0).min((s - self.target.1) / 2.0);
-        (room / cell as f64).floor().max(0.0) as i64
+        let room = |target: f64| (((s - target) / 2.0) / cell as f64).floor().max(0.0) as i64;
+        (room(self.target.0), room(self.target.1))
     }
 }
 
@@ -166,19 +166,13 @@ impl Tracker {
         let size = (init.w, init.h);
         let geometry = Geometry::new(&params, size);
         let window = cosine_window(params.grid, params.grid);
-        let patch = frame.patch(
-            centre,
-            geometry.region,
-            (geometry.side, geometry.side),
-            params.resample(),
-        );
-        let x = patch_features(&params, &patch).windowed(&window);
+        let x = region_features(&params, frame, centre, &geometry).windowed(&window);
         let sigma =
             (geometry.target.0 * geometry.target.1).sqrt() * params.sigma / params.cell as f64;
         let filter = Filter::new(&x, sigma, params.lambda);
         let (object, target) = colour_regions(&params, &geometry, size, (0.0, 0.0));
         let colour = ColourModel::new(
-            &patch.every(params.colour_step),
+            &colour_samples(&params, frame, centre, &geometry),
             object,
             target,
             params.colour_bits,
@@ -221,31 +215,30 @@ impl Tracker {
         self.last
     }
 
-    fn features(&self, patch: &Patch) -> Features {
-        patch_features(&self.params, patch).windowed(&self.window)
+    /// The windowed features of the region of `geometry` around `centre`.
+    fn features(&self, frame: &RgbImage, centre: (f64, f64), geometry: &Geometry) -> Features {
+        region_features(&self.params, frame, centre, geometry).windowed(&self.window)
     }
 
     /// Searches the region around `centre` for the target at its current size.
     fn detect(&self, frame: &RgbImage, centre: (f64, f64)) -> Detection {
         let p = &self.params;
         let geometry = Geometry::new(p, self.size);
-        let patch = frame.patch(
-            centre,
-            geometry.region,
-            (geometry.side, geometry.side),
-            p.resample(),
-        );
-        let spectra = self.filter.spectra(&self.features(&patch));
+        let spectra = self
+            .filter
+            .spectra(&self.features(frame, centre, &geometry));
         let cf = self.filter.response(&spectra);
         let k = p.colour_step;
-        let sparse = patch.every(k);
+        let colours = colour_samples(p, frame, centre, &geometry);
         let likelihood = Integral::new(
-            &self.colour.likelihood(&sparse),
-            sparse.width,
-            sparse.height,
+            &self.colour.likelihood(&colours),
+            colours.width,
+            colours.height,
         );
         let g = p.grid;
-        let reach = geometry.reach(p.cell).min(g as i64 / 2 - 1);
+        let most = g as i64 / 2 - 1;
+        let (x, y) = geometry.reach(p.cell);
+        let reach = (x.min(most), y.min(most));
         let cell = p.cell as f64;
         let cf_at = |dy: i64, dx: i64| {
             cf[dy.rem_euclid(g as i64) as usize * g + dx.rem_euclid(g as i64) as usize]
@@ -257,11 +250,11 @@ impl Tracker {
                     .scaled(k),
             )
         };
-        let side = (2 * reach + 1) as usize;
-        let mut merged = vec![0.0; side * side];
-        for dy in -reach..=reach {
-            for dx in -reach..=reach {
-                merged[(dy + reach) as usize * side + (dx + reach) as usize] =
+        let (side, rows) = ((2 * reach.0 + 1) as usize, (2 * reach.1 + 1) as usize);
+        let mut merged = vec![0.0; side * rows];
+        for dy in -reach.1..=reach.1 {
+            for dx in -reach.0..=reach.0 {
+                merged[(dy + reach.1) as usize * side + (dx + reach.0) as usize] =
                     (1.0 - p.merge) * cf_at(dy, dx) + p.merge * colour_at(dy, dx);
             }
         }
@@ -270,8 +263,8 @@ impl Tracker {
             .unwrap_or(0);
         let (by, bx) = (best / side, best % side);
         let fx = parabola_peak(bx, side, |x| merged[by * side + x]);
-        let fy = parabola_peak(by, side, |y| merged[y * side + bx]);
-        let (dy, dx) = (by as i64 - reach, bx as i64 - reach);
+        let fy = parabola_peak(by, rows, |y| merged[y * side + bx]);
+        let (dy, dx) = (by as i64 - reach.1, bx as i64 - reach.0);
         let zoom = geometry.zoom();
         let found = (
             (centre.0 + (dx as f64 + fx) * cell / zoom.0).clamp(0.0, self.frame_size.0 - 1.0),
@@ -283,7 +276,7 @@ impl Tracker {
             peak: merged[best],
             colour: colour_at(dy, dx),
             geometry,
-            patch,
+            colours,
             spectra,
             merged,
             reach,
@@ -305,7 +298,10 @@ impl Tracker {
         }
         let predicted = match lost && p.coast {
             true => self.anchor,
-            false => self.centre,
+            false => (
+                self.centre.0 + p.lead * self.velocity.0,
+                self.centre.1 + p.lead * self.velocity.1,
+            ),
         };
         let predicted = match &mut self.particles {
             Some(particles) => {
@@ -377,8 +373,8 @@ impl Tracker {
             (z, i, f)
         });
         let old_size = self.size;
-        if let Some((_, _, f)) = scales {
-            self.size = (self.base.0 * f, self.base.1 * f);
+        if let Some((_, _, f)) = scales.as_ref().filter(|_| confidence >= p.scale_above) {
+            self.size = (self.base.0 * *f, self.base.1 * *f);
         }
 
         let learn = confidence >= p.learn_above;
@@ -393,12 +389,8 @@ impl Tracker {
             self.filter
                 .learn(&found.spectra, (moved.1 / cell, moved.0 / cell), p.cf_rate);
             let (object, target) = colour_regions(&p, &found.geometry, old_size, moved);
-            self.colour.learn(
-                &found.patch.every(p.colour_step),
-                object,
-                target,
-                p.colour_rate,
-            );
+            self.colour
+                .learn(&found.colours, object, target, p.colour_rate);
             if let (Some(scale), Some((z, i, _))) = (&mut self.scale, &scales) {
                 scale.learn(z, *i, p.scale_rate);
             }
@@ -462,17 +454,13 @@ impl Tracker {
     fn learn_fresh(&mut self, frame: &RgbImage) {
         let p = self.params;
         let geometry = Geometry::new(&p, self.size);
-        let patch = frame.patch(
-            self.centre,
-            geometry.region,
-            (geometry.side, geometry.side),
-            p.resample(),
-        );
-        let x = self.filter.spectra(&self.features(&patch));
+        let x = self
+            .filter
+            .spectra(&self.features(frame, self.centre, &geometry));
         self.filter.learn(&x, (0.0, 0.0), p.cf_rate);
         let (object, target) = colour_regions(&p, &geometry, self.size, (0.0, 0.0));
-        self.colour
-            .learn(&patch.every(p.colour_step), object, target, p.colour_rate);
+        let colours = colour_samples(&p, frame, self.centre, &geometry);
+        self.colour.learn(&colours, object, target, p.colour_rate);
         if let Some(scale) = &mut self.scale {
             let x = scale.sample(frame, self.centre, self.size);
             scale.learn(&x, scale.middle(), p.scale_rate);
@@ -538,14 +526,34 @@ fn parabola_peak(at: usize, n: usize, value: impl Fn(usize) -> f64) -> f64 {
     }
 }
 
-/// The translation filter's features of `patch`, gradients of its luma with
-/// `luma_gradient`.
-fn patch_features(params: &Params, patch: &Patch) -> Features {
+/// The translation filter's features of the region of `geometry` around `centre`: of the
+/// frame's 8-bit luma resampled to the patch with `luma_gradient` (the core's reading of a
+/// frame), else of its colours.
+fn region_features(
+    params: &Params,
+    frame: &RgbImage,
+    centre: (f64, f64),
+    geometry: &Geometry,
+) -> Features {
     let p = params;
-    match p.luma_gradient {
-        true => features(&patch.greyed(), p.cell, p.hog, p.grey),
-        false => features(patch, p.cell, p.hog, p.grey),
-    }
+    let side = (geometry.side, geometry.side);
+    let patch = match p.luma_gradient {
+        true => frame.luma_patch(centre, geometry.region, side, p.resample()),
+        false => frame.patch(centre, geometry.region, side, p.resample()),
+    };
+    features(&patch, p.cell, p.hog, p.grey)
+}
+
+/// The colour samples of the region of `geometry` around `centre`: `side / colour_step`
+/// a side, each the frame pixel nearest its centre (as the core reads them).
+fn colour_samples(
+    params: &Params,
+    frame: &RgbImage,
+    centre: (f64, f64),
+    geometry: &Geometry,
+) -> Patch {
+    let n = geometry.side.div_ceil(params.colour_step);
+    frame.nearest(centre, geometry.region, (n, n))
 }
 
 fn scale_params(params: &Params) -> ScaleParams {

@@ -24,6 +24,7 @@ const EXAMPLES: &str = "Examples:
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --starts spatial
   rbtrack eval ../shared/data --tracker both --seeds 1,2,3 --camera pan-known
   rbtrack eval ../shared/data --tracker cf64 --starts spatial --set cf.grid=16
+  rbtrack port ../shared/data ../valset --zero-based-sequences ball1_vot15
   rbtrack eval ../shared/data ../valset --tracker cf --starts spatial --zero-based-sequences ball1_vot15
   rbtrack follow ../shared/data/Woman
   rbtrack frames ../shared/data/Crossing out/Crossing.rgb
@@ -60,6 +61,12 @@ pub enum Command {
     /// and the pooled mean), success and precision plots
     #[command(allow_negative_numbers = true)]
     Eval(EvalArgs),
+    /// Check the port: the core's integer correlation-filter tracker (cf) and its f64
+    /// reference (cf64 configured as the integer design) over every sequence of each
+    /// DATA_DIR; per sequence, the first frame where they part, how their sizes compare
+    /// before the reference loses the target, and both AUCs
+    #[command(allow_negative_numbers = true)]
+    Port(PortArgs),
     /// Follow a target with a camera on a pan/tilt head, in closed loop: a virtual camera
     /// sees half of each frame where the head points, the colour PF tracks, the pan/tilt
     /// controller turns the head; centring figures, the camera's view and the error over
@@ -151,8 +158,9 @@ pub struct ConfigArgs {
     /// --set wins over it
     #[arg(long = "config", value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// The configuration the file and --set apply to: default (the defaults) or paper
-    /// (the source papers' trackers, Config::paper)
+    /// The configuration the file and --set apply to: default (the defaults), paper (the
+    /// source papers' trackers, Config::paper) or core (cf64 as the core's integer
+    /// correlation-filter tracker at its defaults: its f64 reference)
     #[arg(long, value_enum, value_name = "P", default_value = "default")]
     pub preset: Preset,
 }
@@ -363,6 +371,30 @@ pub struct EvalArgs {
     pub json: bool,
 }
 
+/// Options of `rbtrack port`.
+#[derive(Debug, Args)]
+pub struct PortArgs {
+    /// Folders of sequence folders (OTB layout each)
+    #[arg(value_name = "DATA_DIR", required = true)]
+    pub data: Vec<PathBuf>,
+    /// First boxes: the ground truth's (box), or spatial: also shifted 2 px left, right,
+    /// up and down and scaled by 0.95 and 1.05 (7 starts)
+    #[arg(long, value_enum, value_name = "S", default_value = "box")]
+    pub starts: Starts,
+    /// The integer tracker's settings (cf.FIELD=VALUE); the reference follows them.
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Box convention of every ground-truth file, unless named below.
+    #[command(flatten)]
+    pub convention: Convention,
+    /// Sequences whose ground truth counts pixels from 0, comma-separated folder names
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+    pub zero_based_sequences: Vec<String>,
+    /// Print one JSON object instead of the table
+    #[arg(long)]
+    pub json: bool,
+}
+
 /// Options of `rbtrack paper`.
 #[derive(Debug, Args)]
 pub struct PaperArgs {
@@ -426,7 +458,7 @@ pub fn report(e: &clap::Error) -> u8 {
         kind => {
             let subcommand = std::env::args()
                 .nth(1)
-                .filter(|a| ["demo", "track", "eval", "paper"].contains(&a.as_str()));
+                .filter(|a| ["demo", "track", "eval", "port", "paper"].contains(&a.as_str()));
             let prefix = match subcommand {
                 Some(s) => format!("rbtrack {s}: "),
                 None => "rbtrack: ".to_string(),

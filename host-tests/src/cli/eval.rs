@@ -5,8 +5,8 @@
 
 use super::args::EvalArgs;
 use super::report::{
-    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, Curves, MeanGroup,
-    MeanRow, SequenceRow,
+    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, Curves, MeanGroup, MeanRow,
+    SequenceRow,
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
@@ -81,14 +81,14 @@ struct Cf64Cost {
 }
 
 /// What every sequence runs with.
-struct Plan<'a> {
-    specs: &'a [RunSpec],
-    shape: Shape,
-    format: Format,
-    overlay: Option<&'a Path>,
-    camera: Option<Camera>,
-    label_seeds: bool,
-    bar: &'a ProgressBar,
+pub(super) struct Plan<'a> {
+    pub specs: &'a [RunSpec],
+    pub shape: Shape,
+    pub format: Format,
+    pub overlay: Option<&'a Path>,
+    pub camera: Option<Camera>,
+    pub label_seeds: bool,
+    pub bar: &'a ProgressBar,
 }
 
 /// Runs `rbtrack eval`; `Ok(false)` when some sequence failed (reported and skipped).
@@ -129,61 +129,18 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
         }
     }
 
-    let folders = args
-        .data
-        .iter()
-        .map(|d| sequence_dirs(d))
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut seen = BTreeMap::new();
-    for dir in folders.iter().flatten() {
-        if let Some(first) = seen.insert(folder_name(dir), dir) {
-            return Err(fail(format!(
-                "sequence {:?} is in two data folders: {} and {}",
-                folder_name(dir),
-                first.display(),
-                dir.display()
-            )));
-        }
-    }
-    for name in &args.zero_based_sequences {
-        if !seen.contains_key(name) {
-            return Err(fail(format!(
-                "--zero-based-sequences: no sequence folder {name:?} in {}",
-                listed(&args.data)
-            )));
-        }
-    }
     let mut all_ok = true;
     let mut skip = |name: &Path, e: &dyn std::fmt::Display| {
         eprintln!("rbtrack eval: skipping {}: {e}", name.display());
         all_ok = false;
     };
-    // The sequences, folder by folder, and the index of each one's folder.
-    let (mut seqs, mut folder_of) = (Vec::new(), Vec::new());
-    for (k, (data, dirs)) in args.data.iter().zip(folders).enumerate() {
-        let opened = seqs.len();
-        for dir in dirs {
-            let origin = if args.zero_based_sequences.contains(&folder_name(&dir)) {
-                GtOrigin::ZeroBased
-            } else {
-                args.convention.origin()
-            };
-            match Sequence::open(&dir, origin) {
-                Ok(s) => {
-                    seqs.push(s);
-                    folder_of.push(k);
-                }
-                Err(e) => skip(&dir, &e),
-            }
-        }
-        if seqs.len() == opened {
-            return Err(fail(format!(
-                "no usable sequence folders (with img/ and {}) in {}",
-                sequence::GROUNDTRUTH_FILE,
-                data.display()
-            )));
-        }
-    }
+    let Folders { seqs, folder_of } = open_folders(
+        &args.data,
+        &args.zero_based_sequences,
+        args.convention.origin(),
+        "eval",
+        &mut skip,
+    )?;
 
     let bar = progress_bar(Some(seqs.iter().map(|s| s.len() as u64).sum()), "eval");
     let plan = Plan {
@@ -353,6 +310,75 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     Ok(all_ok)
 }
 
+/// The sequences of one or more data folders, folder by folder.
+pub(super) struct Folders {
+    /// The sequences opened.
+    pub seqs: Vec<Sequence>,
+    /// The index of each one's folder.
+    pub folder_of: Vec<usize>,
+}
+
+/// Opens every sequence folder of each of `data`, its ground truth 0-based if named in
+/// `zero_based`, else counted from `origin`; a sequence that cannot be opened is handed to
+/// `skip`. Fails on a folder name in two data folders, a `zero_based` name in none, and a
+/// data folder without a usable sequence. `command` names the command in notes.
+pub(super) fn open_folders(
+    data: &[PathBuf],
+    zero_based: &[String],
+    origin: GtOrigin,
+    command: &str,
+    skip: &mut dyn FnMut(&Path, &dyn std::fmt::Display),
+) -> Result<Folders, Failure> {
+    let folders = data
+        .iter()
+        .map(|d| sequence_dirs(d, command))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut seen = BTreeMap::new();
+    for dir in folders.iter().flatten() {
+        if let Some(first) = seen.insert(folder_name(dir), dir) {
+            return Err(fail(format!(
+                "sequence {:?} is in two data folders: {} and {}",
+                folder_name(dir),
+                first.display(),
+                dir.display()
+            )));
+        }
+    }
+    for name in zero_based {
+        if !seen.contains_key(name) {
+            return Err(fail(format!(
+                "--zero-based-sequences: no sequence folder {name:?} in {}",
+                listed(data)
+            )));
+        }
+    }
+    let (mut seqs, mut folder_of) = (Vec::new(), Vec::new());
+    for (k, (dir_of_set, dirs)) in data.iter().zip(folders).enumerate() {
+        let opened = seqs.len();
+        for dir in dirs {
+            let origin = match zero_based.contains(&folder_name(&dir)) {
+                true => GtOrigin::ZeroBased,
+                false => origin,
+            };
+            match Sequence::open(&dir, origin) {
+                Ok(s) => {
+                    seqs.push(s);
+                    folder_of.push(k);
+                }
+                Err(e) => skip(&dir, &e),
+            }
+        }
+        if seqs.len() == opened {
+            return Err(fail(format!(
+                "no usable sequence folders (with img/ and {}) in {}",
+                sequence::GROUNDTRUTH_FILE,
+                dir_of_set.display()
+            )));
+        }
+    }
+    Ok(Folders { seqs, folder_of })
+}
+
 /// The data folders, comma-separated.
 fn listed(dirs: &[PathBuf]) -> String {
     let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
@@ -479,7 +505,10 @@ fn per_start_means(groups: &[MeanGroup]) -> String {
 
 /// Evaluates every sequence of `seqs` with `plan`, on as many threads as there are cores
 /// (at most one per sequence), the largest sequences first. Results in `seqs` order.
-fn run_in_parallel(seqs: &[Sequence], plan: &Plan) -> Vec<Result<SequenceResult, Failure>> {
+pub(super) fn run_in_parallel(
+    seqs: &[Sequence],
+    plan: &Plan,
+) -> Vec<Result<SequenceResult, Failure>> {
     let mut order: Vec<usize> = (0..seqs.len()).collect();
     let cost = |s: &Sequence| s.len() as u64 * s.width as u64 * s.height as u64;
     order.sort_by_key(|&i| std::cmp::Reverse(cost(&seqs[i])));
@@ -590,7 +619,7 @@ fn evaluate(seq: &Sequence, plan: &Plan) -> Result<SequenceResult, Failure> {
 }
 
 /// The sequence folders of `data`, sorted by name; notes the folders without `img/`.
-fn sequence_dirs(data: &Path) -> Result<Vec<PathBuf>, Failure> {
+fn sequence_dirs(data: &Path, command: &str) -> Result<Vec<PathBuf>, Failure> {
     let entries = std::fs::read_dir(data)
         .map_err(|e| fail(format!("cannot read data folder {}: {e}", data.display())))?;
     let mut dirs: Vec<PathBuf> = entries
@@ -602,7 +631,7 @@ fn sequence_dirs(data: &Path) -> Result<Vec<PathBuf>, Failure> {
         let ok = d.join("img").is_dir();
         if !ok {
             eprintln!(
-                "rbtrack eval: note: skipping {}: no img/ folder",
+                "rbtrack {command}: note: skipping {}: no img/ folder",
                 d.display()
             );
         }

@@ -1,5 +1,5 @@
 //! The `rbtrack` command-line program: its arguments ([`args`]) and the work behind each
-//! subcommand ([`demo`], [`track`], [`eval`], [`follow()`], [`frames()`], [`paper()`]); `main.rs` only parses and
+//! subcommand ([`demo`], [`track`], [`eval`], [`port()`], [`follow()`], [`frames()`], [`paper()`]); `main.rs` only parses and
 //! dispatches.
 //!
 //! Conventions:
@@ -21,6 +21,7 @@ mod eval;
 mod follow;
 mod frames;
 mod input;
+mod port;
 mod report;
 mod runs;
 mod track;
@@ -29,6 +30,7 @@ pub use demo::demo;
 pub use eval::eval;
 pub use follow::follow;
 pub use frames::frames;
+pub use port::port;
 pub use track::track;
 
 use crate::cf64;
@@ -306,12 +308,14 @@ fn cf_json(cf: &CoreCf) -> serde_json::Value {
         "scale_rate": q(c.scale_rate),
         "max_scale_change": q(c.max_scale_change),
         "learn_above": q(c.learn_above),
+        "scale_above": q(c.scale_above),
         "uncertain_below": q(c.uncertain_below),
         "lost_below": q(c.lost_below),
         "redetect": c.redetect,
         "redetect_above": q(c.redetect_above),
         "redetect_colour": q(c.redetect_colour),
         "coast": c.coast,
+        "lead": q(c.lead),
     })
 }
 
