@@ -713,10 +713,14 @@ pub fn check_cf_estimate(
             assert_eq!(el.hx, previous.ellipse.hx, "confidence {:?}", e.confidence);
             assert_eq!(el.hy, previous.ellipse.hy, "confidence {:?}", e.confidence);
         }
-        // hx <= m before and before <= m hx, m in Q16.16, each side off by 2 bits.
+        // hx <= m before and before <= m hx, m in Q16.16. The size is the first box's
+        // times a Q16.16 factor floored twice a step (the clamp to 1 / m and the product),
+        // so a half-width may fall short by 2 bits of the factor, w0 / 2^16 bits of it,
+        // and 2 more to the halving.
         let m = bits(config.max_scale_change);
+        let off = 2 + (w0 >> 16);
         assert!(
-            (hx - 2) << 16 <= m * (before + 2) && (before - 2) << 16 <= m * (hx + 2),
+            (hx - off) << 16 <= m * (before + off) && (before - off) << 16 <= m * (hx + off),
             "half-width {:?} after {:?}, at most {:?} apart",
             el.hx,
             previous.ellipse.hx,

@@ -386,8 +386,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.anchor = centre;
         self.lost_velocity = (Q16::ZERO, Q16::ZERO);
         self.lost_frames = 0;
+        // The least factor is rounded up (one bit above the floored ratio), so that the
+        // first box times it is never below MIN_SIDE, and at most 1 (the first box).
         self.factor_bounds = (
-            ratio(MIN_SIDE, size.0).max(ratio(MIN_SIDE, size.1)),
+            ratio(MIN_SIDE, size.0)
+                .max(ratio(MIN_SIDE, size.1))
+                .saturating_add(Q16::from_bits(1))
+                .min(Q16::ONE),
             ratio(frame_size.0, size.0)
                 .min(ratio(frame_size.1, size.1))
                 .max(Q16::ONE),
@@ -928,6 +933,39 @@ mod tests {
         let before = *tracker.estimate();
         assert_eq!(tracker.step(&view), before);
         assert_eq!(tracker.estimate().status, Status::Lost);
+    }
+
+    #[test]
+    fn the_least_size_is_never_below_min_side() {
+        let buf = frame(20);
+        let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+        let mut tracker = Small::unstarted();
+        let q = |bits: i32| Q16::from_bits(bits);
+        // Sides (Q16.16 bits) whose floored 4 / side times side falls short of 4 px, and one
+        // of 4 px, whose least factor is 1.
+        for (w, h) in [
+            (18 << 16, 20 << 16),
+            (7 << 16, 11 << 16),
+            (1_000_003, 458_761),
+            (30 << 16, 4 << 16),
+        ] {
+            let init = Rect {
+                x: Q16::from_int(10),
+                y: Q16::from_int(10),
+                w: q(w),
+                h: q(h),
+            };
+            tracker.start(CfConfig::default(), &view, init).unwrap();
+            tracker.resize(Q16::ONE);
+            assert_eq!(tracker.size, (init.w, init.h), "the first box's size at 1");
+            tracker.resize(Q16::ZERO);
+            let min = Q16::from_int(MIN_SIDE);
+            assert!(
+                tracker.size.0.min(tracker.size.1) >= min,
+                "{:?} from {init:?}",
+                tracker.size
+            );
+        }
     }
 
     #[test]
