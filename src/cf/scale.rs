@@ -141,7 +141,6 @@ impl Grid {
     /// side is 3 cells; in whole cells, at least 2, at most [`MAX_CELLS`] (the longer side
     /// cut to `MAX_CELLS` over the other's cells, that at most half of them).
     fn new(settings: &ScaleSettings, size: (Q16, Q16)) -> Self {
-        let one = Q16::ONE.to_bits() as u64;
         let (w, h) = (
             size.0.to_bits().max(1 << 16) as u64,
             size.1.to_bits().max(1 << 16) as u64,
@@ -151,10 +150,12 @@ impl Grid {
         let fit = |a: u64, b: u64| isqrt_u64((area * a).checked_div(b).unwrap_or(0));
         let shorter = w.min(h);
         let least = (3 * settings.cell as u64) << 16;
+        // Q16.16 to whole px by shifts, and a division the optimiser can see is safe
+        // inside the closure (no panic path: examples/no_panic.rs).
         let side = |a: u64, b: u64| match (a * b) >> 32 > area {
             true => fit(a, b),
-            false if shorter >= least => a / one,
-            false => (a * least / shorter / one).min(fit(a, b)),
+            false if shorter >= least => a >> 16,
+            false => ((a * least).checked_div(shorter).unwrap_or(0) >> 16).min(fit(a, b)),
         };
         let cells = |a: u64, b: u64| {
             (side(a, b) as usize)
