@@ -33,7 +33,7 @@
 //! `size_covariance` and `scale_per_row`; the correlation-filter tracker
 //! (`CfTracker<Rgb8x8x8, 512, 16, 8>`, `<Luma64, 64, 8, 4>` and `<Yuv8x8x4, 256, 32, 16>`,
 //! every pixel format): `unstarted`, `start` (on a configuration and a box it cannot see),
-//! `step`, `step_profiled`, `estimate` and `config`; and the pan/tilt controller's
+//! `step`, `step_profiled`, `estimate`, `config` and `relocate`; and the pan/tilt controller's
 //! `PanTilt::new`
 //! (with settings it cannot see), `step` on those estimates and `command`; and the FFT's
 //! `forward`, `inverse` (8 to 64 points), `forward_2d`, `inverse_2d` (16 x 16 to 64 x 64)
@@ -153,7 +153,7 @@ mod proof {
 
     /// The correlation-filter tracker's public life on frames of format `P`, with a
     /// configuration and boxes the optimiser cannot see: started in place, stepped,
-    /// profiled, restarted, read.
+    /// profiled, restarted, read, relocated.
     fn exercise_cf<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelFormat>(
         tracker: &mut CfTracker<Bn, B, G, S>,
     ) {
@@ -172,6 +172,7 @@ mod proof {
             black_box(tracker.step_profiled(&frame, AnyCounter));
             black_box(tracker.estimate());
             black_box(tracker.config());
+            black_box(tracker.relocate(&frame, Rect::from(any_ellipse())).is_ok());
         }
     }
 

@@ -72,10 +72,10 @@ class Tracker:
         the frame, and ValueError for a frame of another size than `init`'s.
         """
     def relocate(self, frame: npt.NDArray[np.uint8], bbox: Box) -> None:
-        """Moves a particle filter onto the box `bbox` of `frame` (a detector's, say),
-        keeping the colour model it learnt. Raises as `init` does, RuntimeError before it,
-        ValueError for a frame of another size than `init`'s, and NotImplementedError for
-        "cf", whose models learn a new box afresh: call `init`."""
+        """Moves the tracker onto the box `bbox` of `frame` (a detector's, say), keeping
+        what it learnt: a particle filter's colour model, the correlation filter's filter,
+        colour model and scale filter. Raises as `init` does, RuntimeError before it, and
+        ValueError for a frame of another size than `init`'s."""
     @property
     def box(self) -> Box:
         """The last box (x, y, w, h), px, exact (multiples of 1/65536): the initial box

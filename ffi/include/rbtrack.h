@@ -141,7 +141,8 @@ typedef enum {
   RBT_ERR_BOX_TOO_SMALL = 16,
   // The box's centre lies outside the frame.
   RBT_ERR_BOX_OUTSIDE = 17,
-  // A target model learnt under other colour settings.
+  // A target model learnt under other colour settings, or none to keep (the
+  // correlation-filter tracker relocated before `rbt_cf_start`).
   RBT_ERR_MODEL_SETTINGS = 18,
   // An estimate's status is not an `rbt_status`.
   RBT_ERR_STATUS = 19,
@@ -659,9 +660,10 @@ rbt_error rbt_start(rbt_tracker *tracker,
 // As `rbt_start`.
 rbt_error rbt_reset(rbt_tracker *tracker, const rbt_image *frame, const rbt_rect *box);
 
-// Moves the tracker onto the box `box` of `frame` (say a detector's), keeping the model
-// it learnt (the core's `Tracker::relocate`); `RBT_ERR_TRACKER_KIND` for the
-// correlation-filter tracker, whose models learn a new box afresh (`rbt_cf_start`).
+// Moves the tracker onto the box `box` of `frame` (say a detector's), keeping what it
+// learnt: a particle filter's model (the core's `Tracker::relocate`), the
+// correlation-filter tracker's filter, colour model and scale filter, the box its new
+// first box (`CfTracker::relocate`; `RBT_ERR_MODEL_SETTINGS` before `rbt_cf_start`).
 //
 // # Safety
 // As `rbt_start`.

@@ -77,6 +77,11 @@ pub trait CfTrack {
     /// [`CfTracker::start`]'s.
     fn start(&mut self, config: CfConfig, frame: &Frame<'_>, init: Rect)
         -> Result<(), ConfigError>;
+    /// [`CfTracker::relocate`].
+    ///
+    /// # Errors
+    /// [`CfTracker::relocate`]'s.
+    fn relocate(&mut self, frame: &Frame<'_>, init: Rect) -> Result<(), ConfigError>;
     /// [`CfTracker::step`].
     fn step(&mut self, frame: &Frame<'_>) -> Estimate;
     /// [`CfTracker::camera_moved`].
@@ -95,6 +100,10 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTrack
         init: Rect,
     ) -> Result<(), ConfigError> {
         with_view!(frame, v => CfTracker::start(self, config, v, init))
+    }
+
+    fn relocate(&mut self, frame: &Frame<'_>, init: Rect) -> Result<(), ConfigError> {
+        with_view!(frame, v => CfTracker::relocate(self, v, init))
     }
 
     fn step(&mut self, frame: &Frame<'_>) -> Estimate {

@@ -140,6 +140,60 @@ fn the_correlation_filter_tracker_tracks_as_the_cores_does() {
 }
 
 #[test]
+fn the_correlation_filter_tracker_relocates_as_the_cores_does() {
+    let mut mem = memory();
+    let first = square(20);
+    let tracker = started_cf(&mut mem, &first);
+    fn view(buf: &[u8]) -> ImageView<'_, Gray8> {
+        ImageView::new(buf, 64, 48, 64).unwrap()
+    }
+    let mut core = Box::new(RgbCfTracker::unstarted());
+    core.start(
+        CfConfig::default(),
+        &view(&first),
+        Rect::new(20, 16, 16, 16),
+    )
+    .unwrap();
+    let mut got = rbt_estimate::default();
+    for x0 in [22, 24] {
+        let buf = square(x0);
+        assert_eq!(unsafe { rbt_step(tracker, &image(&buf), &mut got) }, RBT_OK);
+        core.step(&view(&buf));
+    }
+    // The square jumps; a detector's box moves both trackers there, and they go on alike.
+    let jumped = square(40);
+    let r#box = rbt_rect {
+        x: q(40),
+        y: q(16),
+        w: q(16),
+        h: q(16),
+    };
+    assert_eq!(
+        unsafe { rbt_relocate(tracker, &image(&jumped), &r#box) },
+        RBT_OK
+    );
+    core.relocate(&view(&jumped), Rect::new(40, 16, 16, 16))
+        .unwrap();
+    assert_eq!(unsafe { rbt_estimate_of(tracker, &mut got) }, RBT_OK);
+    assert_eq!(got, rbt_estimate::from(*core.estimate()));
+    for x0 in [42, 44] {
+        let buf = square(x0);
+        assert_eq!(unsafe { rbt_step(tracker, &image(&buf), &mut got) }, RBT_OK);
+        assert_eq!(got, rbt_estimate::from(core.step(&view(&buf))));
+    }
+    // Placed but not started: nothing to keep.
+    let mut other = memory();
+    let mut placed = null_mut();
+    let place =
+        unsafe { rbt_tracker_place_cf(other.0.as_mut_ptr().cast(), other.0.len(), &mut placed) };
+    assert_eq!(place, RBT_OK);
+    assert_eq!(
+        unsafe { rbt_relocate(placed, &image(&jumped), &r#box) },
+        RBT_ERR_MODEL_SETTINGS
+    );
+}
+
+#[test]
 fn a_call_for_the_other_kind_of_tracker_is_refused() {
     let (mut cf_mem, mut pf_mem) = (memory(), memory());
     let buf = square(20);
@@ -151,7 +205,6 @@ fn a_call_for_the_other_kind_of_tracker_is_refused() {
         assert_eq!(rbt_cf_config_default(&mut cf_config), RBT_OK);
         assert_eq!(rbt_start(cf, &config, &frame, &r#box), RBT_ERR_TRACKER_KIND);
         assert_eq!(rbt_reset(cf, &frame, &r#box), RBT_ERR_TRACKER_KIND);
-        assert_eq!(rbt_relocate(cf, &frame, &r#box), RBT_ERR_TRACKER_KIND);
         assert_eq!(
             rbt_cf_start(pf, &cf_config, &frame, &r#box),
             RBT_ERR_TRACKER_KIND

@@ -46,6 +46,8 @@ enum Op {
     Restart(Option<FrameSpec>, RectSpec, Option<Box<CfConfigSpec>>),
     /// The picture moved: shift `(dx, dy)`, zoom, zoom centre.
     CameraMoved([Q; 5]),
+    /// A detector's box on a new frame (or the first): the models kept.
+    Relocate(Option<FrameSpec>, RectSpec),
 }
 
 #[derive(Arbitrary, Debug, Clone)]
@@ -155,7 +157,7 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
                 let (e, _cycles) = tracker.step_profiled(&frame, Wild(*start));
                 check(&tracker, started, &before, &e, true);
             }
-            Op::Step(spec) | Op::Restart(spec, ..) => {
+            Op::Step(spec) | Op::Restart(spec, ..) | Op::Relocate(spec, _) => {
                 let built = spec.as_ref().map(|s| s.build(bpp));
                 let view = match &built {
                     Some(f) => ImageView::<P>::new(&f.buf, f.width, f.height, f.stride),
@@ -166,6 +168,28 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
                     Op::Restart(_, rect, config) => {
                         let config = config.as_deref().unwrap_or(&input.config);
                         restart(&mut tracker, &mut started, config, &view, *rect);
+                    }
+                    Op::Relocate(_, rect) => {
+                        let init = rect.get(view.width(), view.height());
+                        let acceptable = started.is_some()
+                            && cf_init_is_valid(&init, view.width(), view.height());
+                        let config = *tracker.config();
+                        match tracker.relocate(&view, init) {
+                            Ok(()) => {
+                                assert!(acceptable, "relocated {init:?}");
+                                assert_eq!(tracker.config(), &config);
+                                assert_eq!(tracker.estimate().ellipse, Ellipse::from(init));
+                                started = Some(CfStart {
+                                    width: view.width(),
+                                    height: view.height(),
+                                    size: (init.w, init.h),
+                                });
+                            }
+                            Err(e) => {
+                                assert!(!acceptable, "refused ({e}) {init:?}");
+                                assert_eq!(tracker.estimate(), &before, "a refusal keeps it");
+                            }
+                        }
                     }
                     _ => {
                         let e = tracker.step(&view);

@@ -3,7 +3,7 @@
 //! stubs and docs of the Python API are `rbtrack.pyi`.
 
 use numpy::PyReadonlyArrayDyn;
-use pyo3::exceptions::{PyNotImplementedError, PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use rbtrack::tracker::{CfConfig, Config, Estimate, Status, Variant};
 use rbtrack::{Rect, RgbCfTracker, RgbTracker};
@@ -235,26 +235,22 @@ impl Tracker {
         Ok((estimate.status != Status::Lost, estimate.rect().px()))
     }
 
-    /// Moves a particle filter onto the box `bbox` = `(x, y, w, h)` of `frame` (a
-    /// detector's, say; of `init`'s frame's size), keeping the colour model it learnt;
-    /// `NotImplementedError` for the correlation-filter tracker, whose models learn a new
-    /// box afresh (`init`).
+    /// Moves the tracker onto the box `bbox` = `(x, y, w, h)` of `frame` (a detector's, say;
+    /// of `init`'s frame's size), keeping what it learnt: a particle filter's colour model,
+    /// the correlation-filter tracker's filter, colour model and scale filter.
     fn relocate(&mut self, frame: &Bound<'_, PyAny>, bbox: &Bound<'_, PyAny>) -> PyResult<()> {
         self.last()?;
         let array = frame::borrow(frame)?;
         let pixels = Pixels::of(&array, self.order)?;
         self.check_size(&pixels)?;
         let at = ellipse(bbox)?;
-        let Engine::Particles { tracker, .. } = &mut self.engine else {
-            return Err(PyNotImplementedError::new_err(
-                "relocate keeps a particle filter's colour model; the correlation-filter \
-                 tracker ('cf') learns a new box afresh: call init",
-            ));
-        };
-        tracker
-            .relocate(&pixels.frame()?, at)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        self.estimate = Some(tracker.estimate());
+        let frame = pixels.frame()?;
+        match &mut self.engine {
+            Engine::Correlation(tracker) => tracker.relocate(&frame, Rect::from(at)),
+            Engine::Particles { tracker, .. } => tracker.relocate(&frame, at),
+        }
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        self.estimate = Some(self.engine.estimate());
         Ok(())
     }
 

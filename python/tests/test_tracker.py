@@ -164,8 +164,8 @@ def test_the_defaults_and_what_each_variant_takes():
     assert (pf.variant, pf.particles, pf.seed) == ("pf", 100, 1)
     assert repr(pf) == 'rbtrack.Tracker(variant="pf", particles=100, seed=1, format="bgr")'
     cf.init(square(20), (20, 16, 16, 16))
-    with pytest.raises(NotImplementedError, match="call init"):
-        cf.relocate(square(22), (22, 16, 16, 16))
+    cf.relocate(square(22), (22, 16, 16, 16))
+    assert cf.box == (22.0, 16.0, 16.0, 16.0) and cf.status == "tracking"
     pf.init(square(20), (20, 16, 16, 16))
     pf.relocate(square(22), (22, 16, 16, 16))
     assert pf.box == (22.0, 16.0, 16.0, 16.0)

@@ -190,7 +190,8 @@ pub enum ConfigError {
     /// The initial ellipse's centre lies outside the frame.
     InitialOutside,
     /// A target model learnt under other colour settings, or given to an unstarted
-    /// tracker ([`super::Tracker::set_model`]).
+    /// tracker ([`super::Tracker::set_model`]); a correlation-filter tracker relocated
+    /// before it started, with no models to keep ([`super::CfTracker::relocate`]).
     ModelSettings,
 }
 
@@ -203,7 +204,10 @@ impl core::fmt::Display for ConfigError {
             Self::ParticleCount => write!(f, "particle count must be in 1..=65535"),
             Self::InitialTooSmall => write!(f, "initial ellipse below the smallest half-axis"),
             Self::InitialOutside => write!(f, "initial ellipse centred outside the frame"),
-            Self::ModelSettings => write!(f, "target model learnt under other colour settings"),
+            Self::ModelSettings => write!(
+                f,
+                "target model learnt under other colour settings, or none (not started)"
+            ),
         }
     }
 }

@@ -364,19 +364,60 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         init: Rect,
     ) -> Result<(), ConfigError> {
         config.validate()?;
-        let min = Q16::from_int(MIN_SIDE);
-        if init.w < min || init.h < min {
-            return Err(ConfigError::InitialTooSmall);
-        }
-        let frame_size = (frame.width() as i32, frame.height() as i32);
-        let centre = init.centre();
-        let inside = |v: Q16, n: i32| v >= Q16::ZERO && v <= Q16::from_int(n - 1);
-        if !(inside(centre.0, frame_size.0) && inside(centre.1, frame_size.1)) {
-            return Err(ConfigError::InitialOutside);
-        }
-        let size = (init.w, init.h);
-        let ratio = |a: i32, b: Q16| Q16::from_ratio((a as i64) << 16, b.to_bits() as i64);
+        check_box(frame, init)?;
         self.config = config;
+        self.place(frame, init);
+        let (centre, size) = (self.centre, self.size);
+        let geometry = self.geometry();
+        self.sample_cells(frame, centre, &geometry);
+        let target = geometry.target;
+        let sigma = target
+            .0
+            .saturating_mul(target.1)
+            .sqrt()
+            .saturating_mul(config.sigma)
+            .saturating_div(Q16::from_int(config.cell as i32));
+        let settings = FilterSettings {
+            sigma,
+            lambda: config.lambda,
+        };
+        self.filter.reset(settings, &self.cells);
+        self.scale.start(config.scale, frame, centre, size);
+        let grid = self.colour_grid(centre, &geometry);
+        let still = (Q16::ZERO, Q16::ZERO);
+        self.learn_colour(frame, &grid, &geometry, still, size, Q16::ONE);
+        Ok(())
+    }
+
+    /// Moves the tracker onto `init` in `frame` (px; say a box a detector found) and keeps
+    /// what it learnt: the translation filter, the colour model and the scale filter. The
+    /// box is the new first box (the size factor starts again at 1 and its bounds follow
+    /// it), the velocity is forgotten, and the status is `Tracking`; nothing is learnt
+    /// from this frame. An unstarted tracker, having nothing to keep, refuses it.
+    ///
+    /// # Errors
+    /// [`ConfigError::ModelSettings`] if the tracker has not started;
+    /// [`ConfigError::InitialTooSmall`] or [`ConfigError::InitialOutside`] as for
+    /// [`CfTracker::start`]. On an error the tracker is left as it was.
+    pub fn relocate<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        init: Rect,
+    ) -> Result<(), ConfigError> {
+        if self.config.cell == 0 {
+            return Err(ConfigError::ModelSettings);
+        }
+        check_box(frame, init)?;
+        self.place(frame, init);
+        Ok(())
+    }
+
+    /// Puts the target at `init` in `frame` as a first box: centre, size and its bounds,
+    /// no velocity, `Tracking`. The models are not touched.
+    fn place<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, init: Rect) {
+        let frame_size = (frame.width() as i32, frame.height() as i32);
+        let (centre, size) = (init.centre(), (init.w, init.h));
+        let ratio = |a: i32, b: Q16| Q16::from_ratio((a as i64) << 16, b.to_bits() as i64);
         self.frame_size = frame_size;
         self.centre = centre;
         self.size = size;
@@ -398,25 +439,6 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
                 .max(Q16::ONE),
         );
         self.estimate = Estimate::at_rest(Ellipse::from(init), Q16::ONE, Status::Tracking);
-        let geometry = self.geometry();
-        self.sample_cells(frame, centre, &geometry);
-        let target = geometry.target;
-        let sigma = target
-            .0
-            .saturating_mul(target.1)
-            .sqrt()
-            .saturating_mul(config.sigma)
-            .saturating_div(Q16::from_int(config.cell as i32));
-        let settings = FilterSettings {
-            sigma,
-            lambda: config.lambda,
-        };
-        self.filter.reset(settings, &self.cells);
-        self.scale.start(config.scale, frame, centre, size);
-        let grid = self.colour_grid(centre, &geometry);
-        let still = (Q16::ZERO, Q16::ZERO);
-        self.learn_colour(frame, &grid, &geometry, still, size, Q16::ONE);
-        Ok(())
     }
 
     /// The configuration.
@@ -820,6 +842,20 @@ fn mean(size: (Q16, Q16)) -> Q16 {
     Q16::saturate((size.0.to_bits() as i64 + size.1.to_bits() as i64) / 2)
 }
 
+/// A first box's checks: each side at least [`MIN_SIDE`] px, the centre inside `frame`.
+fn check_box<P: PixelFormat>(frame: &ImageView<'_, P>, init: Rect) -> Result<(), ConfigError> {
+    let min = Q16::from_int(MIN_SIDE);
+    if init.w < min || init.h < min {
+        return Err(ConfigError::InitialTooSmall);
+    }
+    let centre = init.centre();
+    let inside = |v: Q16, n: usize| v >= Q16::ZERO && v <= Q16::from_int(n as i32 - 1);
+    match inside(centre.0, frame.width()) && inside(centre.1, frame.height()) {
+        true => Ok(()),
+        false => Err(ConfigError::InitialOutside),
+    }
+}
+
 /// The offset in `[-1/2, 1/2]` (Q16.16) of the top of the parabola through `(-1, l)`,
 /// `(0, c)` and `(1, r)`; 0 where the three do not curve down.
 fn parabola_peak(l: i64, c: i64, r: i64) -> Q16 {
@@ -933,6 +969,56 @@ mod tests {
         let before = *tracker.estimate();
         assert_eq!(tracker.step(&view), before);
         assert_eq!(tracker.estimate().status, Status::Lost);
+    }
+
+    #[test]
+    fn relocate_keeps_the_models_and_moves_the_target() {
+        fn view(buf: &[u8]) -> ImageView<'_, Gray8> {
+            ImageView::new(buf, 96, 72, 96).unwrap()
+        }
+        let first = frame(20);
+        let mut tracker = Small::new(
+            CfConfig::default(),
+            &view(&first),
+            Rect::new(20, 26, 16, 20),
+        )
+        .unwrap();
+        for x0 in (22..30).step_by(2) {
+            tracker.step(&view(&frame(x0)));
+        }
+        let models = |t: &Small| std::format!("{:?} {:?} {:?}", t.filter, t.colour, t.scale);
+        let learnt = models(&tracker);
+        // The block jumps 40 px, beyond the search; a detector's box brings the tracker there.
+        let jumped = frame(68);
+        let before = *tracker.estimate();
+        let bad = [
+            (Rect::new(68, 26, 3, 20), ConfigError::InitialTooSmall),
+            (Rect::new(100, 26, 16, 20), ConfigError::InitialOutside),
+        ];
+        for (init, error) in bad {
+            assert_eq!(tracker.relocate(&view(&jumped), init), Err(error));
+            assert_eq!(*tracker.estimate(), before, "unchanged");
+        }
+        tracker
+            .relocate(&view(&jumped), Rect::new(68, 26, 16, 20))
+            .unwrap();
+        assert_eq!(
+            models(&tracker),
+            learnt,
+            "nothing learnt, nothing forgotten"
+        );
+        let e = tracker.estimate();
+        assert_eq!((e.ellipse.cx.to_f64(), e.status), (75.5, Status::Tracking));
+        for x0 in (70..78).step_by(2) {
+            let e = tracker.step(&view(&frame(x0)));
+            let cx = e.ellipse.cx.to_f64();
+            assert!((cx - (x0 as f64 + 7.5)).abs() < 1.5, "x0 {x0}: centre {cx}");
+        }
+        // Unstarted, there is nothing to keep.
+        let mut fresh = Small::unstarted();
+        let init = Rect::new(68, 26, 16, 20);
+        let refused = fresh.relocate(&view(&jumped), init);
+        assert_eq!(refused, Err(ConfigError::ModelSettings));
     }
 
     #[test]

@@ -47,7 +47,8 @@ pub enum rbt_error {
     RBT_ERR_BOX_TOO_SMALL = 16,
     /// The box's centre lies outside the frame.
     RBT_ERR_BOX_OUTSIDE = 17,
-    /// A target model learnt under other colour settings.
+    /// A target model learnt under other colour settings, or none to keep (the
+    /// correlation-filter tracker relocated before `rbt_cf_start`).
     RBT_ERR_MODEL_SETTINGS = 18,
     /// An estimate's status is not an `rbt_status`.
     RBT_ERR_STATUS = 19,
@@ -134,7 +135,7 @@ impl rbt_error {
             }
             RBT_ERR_BOX_OUTSIDE => c"RBT_ERR_BOX_OUTSIDE: box centred outside the frame",
             RBT_ERR_MODEL_SETTINGS => {
-                c"RBT_ERR_MODEL_SETTINGS: target model learnt under other colour settings"
+                c"RBT_ERR_MODEL_SETTINGS: target model learnt under other colour settings, or none"
             }
             RBT_ERR_STATUS => c"RBT_ERR_STATUS: unknown estimate status",
             RBT_ERR_PANTILT_FRAME => {

@@ -88,9 +88,10 @@ pub unsafe extern "C" fn rbt_reset(
     unsafe { with_particles(tracker, |t| code(t.reset(&frame, init))) }
 }
 
-/// Moves the tracker onto the box `box` of `frame` (say a detector's), keeping the model
-/// it learnt (the core's `Tracker::relocate`); `RBT_ERR_TRACKER_KIND` for the
-/// correlation-filter tracker, whose models learn a new box afresh (`rbt_cf_start`).
+/// Moves the tracker onto the box `box` of `frame` (say a detector's), keeping what it
+/// learnt: a particle filter's model (the core's `Tracker::relocate`), the
+/// correlation-filter tracker's filter, colour model and scale filter, the box its new
+/// first box (`CfTracker::relocate`; `RBT_ERR_MODEL_SETTINGS` before `rbt_cf_start`).
 ///
 /// # Safety
 /// As `rbt_start`.
@@ -106,7 +107,12 @@ pub unsafe extern "C" fn rbt_relocate(
         (Err(e), _) | (_, Err(e)) => return e,
     };
     // SAFETY: as this function's contract.
-    unsafe { with_particles(tracker, |t| code(t.relocate(&frame, at))) }
+    unsafe {
+        with_tracker(tracker, |t| match t {
+            Engine::Particles(t) => code(t.relocate(&frame, at)),
+            Engine::Correlation(t) => code(t.relocate(&frame, Rect::from(at))),
+        })
+    }
 }
 
 /// Tracks one frame and writes the estimate to `estimate` (the core's `Tracker::step`;
