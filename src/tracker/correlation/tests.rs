@@ -1,0 +1,296 @@
+//! The correlation-filter tracker's unit tests.
+
+use super::*;
+use crate::image::{Gray8, Luma64, Rgb8x8x8};
+use std::vec;
+use std::vec::Vec;
+
+type Small = CfTracker<Luma64, 64, 16, 8>;
+
+/// A 96 x 72 grey frame: a textured 16 x 20 px block at `(x0, 26)` on a darker ramp.
+fn frame(x0: usize) -> Vec<u8> {
+    frame_at(x0, 26)
+}
+
+/// The 96 x 72 ramp alone.
+fn ramp() -> Vec<u8> {
+    (0..96 * 72).map(|i| (40 + (i % 96) / 4) as u8).collect()
+}
+
+/// [`frame`] with the block at `(x0, y0)`.
+fn frame_at(x0: usize, y0: usize) -> Vec<u8> {
+    let w = 96;
+    let mut buf = ramp();
+    for y in y0..y0 + 20 {
+        for x in x0..x0 + 16 {
+            buf[y * w + x] = if (x - x0) / 4 % 2 == ((y - y0 + 26) / 5) % 2 {
+                230
+            } else {
+                150
+            };
+        }
+    }
+    buf
+}
+
+#[test]
+fn follows_a_moving_block() {
+    let first = frame(20);
+    let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+    let mut tracker = Small::new(CfConfig::default(), &view, Rect::new(20, 26, 16, 20)).unwrap();
+    for x0 in (22..50).step_by(2) {
+        let buf = frame(x0);
+        let e = tracker.step(&ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap());
+        let cx = e.ellipse.cx.to_f64();
+        assert!((cx - (x0 as f64 + 7.5)).abs() < 1.5, "x0 {x0}: centre {cx}");
+        assert_eq!(e.status, Status::Tracking);
+    }
+}
+
+#[test]
+fn start_refuses_bad_settings_and_boxes_and_keeps_the_tracker() {
+    let buf = frame(20);
+    let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+    let mut tracker = Small::unstarted();
+    let bad = CfConfig {
+        merge: Q16::from_int(2),
+        ..CfConfig::default()
+    };
+    let good = CfConfig::default();
+    let steep = CfConfig {
+        scale: ScaleSettings {
+            step: Q16::from_ratio(8, 5),
+            ..good.scale
+        },
+        ..good
+    };
+    let cases = [
+        (
+            bad,
+            Rect::new(20, 26, 16, 20),
+            ConfigError::OutOfRange("merge"),
+        ),
+        (
+            steep,
+            Rect::new(20, 26, 16, 20),
+            ConfigError::OutOfRange("scale.step"),
+        ),
+        (
+            CfConfig {
+                redetect: 9,
+                ..good
+            },
+            Rect::new(20, 26, 16, 20),
+            ConfigError::OutOfRange("redetect"),
+        ),
+        (good, Rect::new(20, 26, 3, 20), ConfigError::InitialTooSmall),
+        (
+            good,
+            Rect::new(100, 26, 16, 20),
+            ConfigError::InitialOutside,
+        ),
+    ];
+    for (config, init, error) in cases {
+        assert_eq!(tracker.start(config, &view, init), Err(error));
+        assert_eq!(tracker.config().cell, 0, "left unstarted");
+    }
+    // Unstarted, a step changes nothing.
+    let before = *tracker.estimate();
+    assert_eq!(tracker.step(&view), before);
+    assert_eq!(tracker.estimate().status, Status::Lost);
+}
+
+#[test]
+fn relocate_keeps_the_models_and_moves_the_target() {
+    fn view(buf: &[u8]) -> ImageView<'_, Gray8> {
+        ImageView::new(buf, 96, 72, 96).unwrap()
+    }
+    let first = frame(20);
+    let mut tracker = Small::new(
+        CfConfig::default(),
+        &view(&first),
+        Rect::new(20, 26, 16, 20),
+    )
+    .unwrap();
+    for x0 in (22..30).step_by(2) {
+        tracker.step(&view(&frame(x0)));
+    }
+    let models = |t: &Small| std::format!("{:?} {:?} {:?}", t.filter, t.colour, t.scale);
+    let learnt = models(&tracker);
+    // The block jumps 40 px, beyond the search; a detector's box brings the tracker there.
+    let jumped = frame(68);
+    let before = *tracker.estimate();
+    let bad = [
+        (Rect::new(68, 26, 3, 20), ConfigError::InitialTooSmall),
+        (Rect::new(100, 26, 16, 20), ConfigError::InitialOutside),
+    ];
+    for (init, error) in bad {
+        assert_eq!(tracker.relocate(&view(&jumped), init), Err(error));
+        assert_eq!(*tracker.estimate(), before, "unchanged");
+    }
+    tracker
+        .relocate(&view(&jumped), Rect::new(68, 26, 16, 20))
+        .unwrap();
+    assert_eq!(
+        models(&tracker),
+        learnt,
+        "nothing learnt, nothing forgotten"
+    );
+    let e = tracker.estimate();
+    assert_eq!((e.ellipse.cx.to_f64(), e.status), (75.5, Status::Tracking));
+    for x0 in (70..78).step_by(2) {
+        let e = tracker.step(&view(&frame(x0)));
+        let cx = e.ellipse.cx.to_f64();
+        assert!((cx - (x0 as f64 + 7.5)).abs() < 1.5, "x0 {x0}: centre {cx}");
+    }
+    // Unstarted, there is nothing to keep.
+    let mut fresh = Small::unstarted();
+    let init = Rect::new(68, 26, 16, 20);
+    let refused = fresh.relocate(&view(&jumped), init);
+    assert_eq!(refused, Err(ConfigError::ModelSettings));
+}
+
+#[test]
+fn the_least_size_is_never_below_min_side() {
+    let buf = frame(20);
+    let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+    let mut tracker = Small::unstarted();
+    let q = |bits: i32| Q16::from_bits(bits);
+    // Sides (Q16.16 bits) whose floored 4 / side times side falls short of 4 px, and one
+    // of 4 px, whose least factor is 1.
+    for (w, h) in [
+        (18 << 16, 20 << 16),
+        (7 << 16, 11 << 16),
+        (1_000_003, 458_761),
+        (30 << 16, 4 << 16),
+    ] {
+        let init = Rect {
+            x: Q16::from_int(10),
+            y: Q16::from_int(10),
+            w: q(w),
+            h: q(h),
+        };
+        tracker.start(CfConfig::default(), &view, init).unwrap();
+        tracker.resize(Q16::ONE);
+        assert_eq!(tracker.size, (init.w, init.h), "the first box's size at 1");
+        tracker.resize(Q16::ZERO);
+        let min = Q16::from_int(MIN_SIDE);
+        assert!(
+            tracker.size.0.min(tracker.size.1) >= min,
+            "{:?} from {init:?}",
+            tracker.size
+        );
+    }
+}
+
+#[test]
+fn lost_holds_until_the_confidence_reaches_uncertain_below() {
+    let c = CfConfig::default();
+    let (lost, uncertain) = (c.lost_below, c.uncertain_below);
+    let between = Q16::from_bits((lost.to_bits() + uncertain.to_bits()) / 2);
+    let cases = [
+        (Q16::ZERO, Status::Tracking, Status::Lost),
+        (between, Status::Tracking, Status::Uncertain),
+        (between, Status::Uncertain, Status::Uncertain),
+        (between, Status::Lost, Status::Lost),
+        (uncertain, Status::Lost, Status::Tracking),
+        (Q16::ONE, Status::Lost, Status::Tracking),
+        (lost, Status::Tracking, Status::Uncertain),
+    ];
+    for (confidence, previous, want) in cases {
+        assert_eq!(
+            c.status(confidence, previous),
+            want,
+            "{confidence:?} after {previous:?}"
+        );
+    }
+}
+
+#[test]
+fn a_camera_motion_moves_the_target_with_the_picture() {
+    let buf = frame(20);
+    let view = ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap();
+    let mut tracker = Small::new(CfConfig::default(), &view, Rect::new(20, 26, 16, 20)).unwrap();
+    let (cx, cy) = (tracker.estimate().ellipse.cx, tracker.estimate().ellipse.cy);
+    tracker.camera_moved(&CameraMotion::shift(Q16::from_int(5), Q16::from_int(-3)));
+    let e = tracker.estimate().ellipse;
+    assert_eq!((e.cx, e.cy), (cx + Q16::from_int(5), cy - Q16::from_int(3)));
+    // The picture moved with the camera: the block 5 px right and 3 px up.
+    let moved = frame(25);
+    let shifted: Vec<u8> = moved[3 * 96..]
+        .iter()
+        .copied()
+        .chain(vec![40; 3 * 96])
+        .collect();
+    let view2 = ImageView::<Gray8>::new(&shifted, 96, 72, 96).unwrap();
+    let e = tracker.step(&view2);
+    assert!(
+        (e.ellipse.cx.to_f64() - 32.5).abs() < 1.5,
+        "{:?}",
+        e.ellipse
+    );
+    assert!(
+        (e.ellipse.cy.to_f64() - 32.5).abs() < 1.5,
+        "{:?}",
+        e.ellipse
+    );
+}
+
+/// Steps of 1 count: each stage's lap is 1 per stopwatch lap.
+struct Laps(u32);
+
+impl CycleCounter for Laps {
+    fn now(&mut self) -> u32 {
+        self.0 += 1;
+        self.0
+    }
+}
+
+/// The block leaves for 4 frames (the tracker is lost) and comes back half a region
+/// right of where it was last seen, beyond the usual search's reach: with re-detection
+/// (2 ring regions a frame, 3 laps each, and 3 more for the region that takes over) the
+/// ring's region there finds it on that frame; without, the tracker is still lost.
+#[test]
+fn re_detection_finds_the_target_half_a_region_away() {
+    let first = frame(20);
+    let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+    let empty = ramp();
+    let empty = ImageView::<Gray8>::new(&empty, 96, 72, 96).unwrap();
+    for redetect in [0, 2] {
+        let config = CfConfig {
+            redetect,
+            ..CfConfig::default()
+        };
+        let mut tracker = Small::new(config, &view, Rect::new(20, 26, 16, 20)).unwrap();
+        for k in 0..4 {
+            let (e, cycles) = tracker.step_profiled(&empty, Laps(0));
+            assert_eq!(e.status, Status::Lost, "redetect {redetect}, frame {k}");
+            let ring = if k == 0 { 0 } else { 3 * redetect as u32 };
+            assert_eq!(cycles.redetect, ring, "redetect {redetect}, frame {k}");
+        }
+        // The next step's first ring region is half a region right of the first box.
+        let half = tracker.geometry().region.0.to_f64() / 2.0;
+        let x0 = (20.0 + half).round() as usize;
+        let back = frame_at(x0, 26);
+        let back = ImageView::<Gray8>::new(&back, 96, 72, 96).unwrap();
+        let (e, cycles) = tracker.step_profiled(&back, Laps(0));
+        let cx = e.ellipse.cx.to_f64();
+        if redetect == 0 {
+            assert_eq!((e.status, cycles.redetect), (Status::Lost, 0));
+        } else {
+            assert_eq!(cycles.redetect, 9, "2 ring regions and the one taken");
+            assert_ne!(e.status, Status::Lost);
+            assert!(
+                (cx - (x0 as f64 + 7.5)).abs() < 1.5,
+                "centre {cx}, block at {x0}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_default_tracker_fits_in_128_kib() {
+    let size = core::mem::size_of::<CfTracker<Rgb8x8x8, 512, 16, 8>>();
+    std::println!("CfTracker<Rgb8x8x8, 512, 16, 8>: {size} B");
+    assert!(size <= 128 * 1024, "{size} B");
+}
