@@ -27,8 +27,9 @@
 //! // A 320x240 camera with a 60 x 45 degree field of view: 0.1875 degree per px.
 //! let mut head = PanTilt::new(PanTiltConfig::new(320, 240, Q16::from_int(60), Q16::from_int(45)))?;
 //! let target = Ellipse::new(Q16::from_int(239), Q16::from_int(119), Q16::from_int(10), Q16::from_int(20));
-//! let (vx, vy, confidence) = (Q16::ZERO, Q16::ZERO, Q16::ONE);
-//! let estimate = Estimate { ellipse: target, vx, vy, confidence, status: Status::Tracking };
+//! let (vx, vy, score, confidence) = (Q16::ZERO, Q16::ZERO, Q16::ONE, Q16::ONE);
+//! let status = Status::Tracking;
+//! let estimate = Estimate { ellipse: target, vx, vy, score, confidence, status };
 //! let command = head.step(&estimate);
 //! // 80 px right of centre is 15 degrees: the head turns right, by at most 5 a frame.
 //! assert_eq!(command.pan, Q16::from_int(5));
@@ -286,6 +287,7 @@ mod tests {
             ellipse: Ellipse::new(cx, cy, Q16::from_int(8), Q16::from_int(16)),
             vx: Q16::ZERO,
             vy: Q16::ZERO,
+            score: Q16::ONE,
             confidence: Q16::ONE,
             status,
         }

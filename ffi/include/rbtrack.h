@@ -16,12 +16,12 @@
 
 #if defined(RBT_POINTER_32)
 // Bytes of memory for a tracker of 25 particles on 512 RGB bins (8x8x8) (32-bit targets).
-#define RBT_TRACKER_RGB_25_SIZE 50840
+#define RBT_TRACKER_RGB_25_SIZE 50848
 #endif
 
 #if defined(RBT_POINTER_64)
 // Bytes of memory for a tracker of 25 particles on 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_RGB_25_SIZE 50880
+#define RBT_TRACKER_RGB_25_SIZE 50888
 #endif
 
 #if defined(RBT_POINTER_32)
@@ -87,13 +87,13 @@
 #if defined(RBT_POINTER_32)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (32-bit targets).
-#define RBT_TRACKER_CF_SIZE 70616
+#define RBT_TRACKER_CF_SIZE 70624
 #endif
 
 #if defined(RBT_POINTER_64)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_CF_SIZE 70688
+#define RBT_TRACKER_CF_SIZE 70696
 #endif
 
 // Alignment of every tracker's memory, bytes.
@@ -435,7 +435,12 @@ typedef struct {
   rbt_q16 vx;
   // Vertical velocity, px/frame, Q16.16.
   rbt_q16 vy;
-  // How well the window matches the model, less the particles' spread, Q16.16 in [0, 1].
+  // The tracker's own score, Q16.16 in [0, 1]: a particle filter's colour coefficient
+  // less the particles' spread, the correlation filter's response peak.
+  rbt_q16 score;
+  // The score through the tracker's calibration: about the chance that the box
+  // overlaps the target's by an IoU of at least 0.5, alike for every tracker; it sets
+  // the status. Q16.16 in [0, 1].
   rbt_q16 confidence;
   // An `rbt_status`.
   uint32_t status;

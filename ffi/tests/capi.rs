@@ -408,6 +408,7 @@ fn the_status_numbers_rise_with_confidence() {
             ),
             vx: Q16::ZERO,
             vy: Q16::ZERO,
+            score: Q16::ZERO,
             confidence: Q16::ZERO,
             status,
         };

@@ -363,6 +363,7 @@ pub fn success_plot(
         x_decimals: 1,
         y_label: "success rate",
         x_max: 1.0,
+        span: (0.0, 1.0),
         legend_at: SeriesLabelPosition::UpperRight,
     };
     line_plot(path.as_ref(), title, &axes, series, legend)
@@ -391,6 +392,7 @@ pub fn precision_plot(
         x_decimals: 0,
         y_label: "precision",
         x_max: max_x,
+        span: (0.0, max_x),
         legend_at: SeriesLabelPosition::LowerRight,
     };
     line_plot(path.as_ref(), title, &axes, series, legend)
@@ -414,16 +416,57 @@ pub fn error_plot(
         x_decimals: 0,
         y_label,
         x_max: frames.saturating_sub(1).max(1) as f64,
+        span: (0.0, frames.saturating_sub(1).max(1) as f64),
         legend_at: SeriesLabelPosition::UpperRight,
     };
     line_plot(path.as_ref(), title, &axes, series, legend)
+}
+
+/// Reliability diagram (PNG): per tenth of the confidence, the share of frames on the
+/// target, at the tenths' midpoints (10 values per series; a NaN, an empty tenth, is left
+/// out), beside the diagonal of a calibrated confidence; the legend shows each series'
+/// largest distance from it.
+pub fn reliability_plot(
+    path: impl AsRef<Path>,
+    title: &str,
+    series: &[Series],
+) -> Result<(), DrawError> {
+    let midpoints: Vec<f64> = (0..10).map(|i| (i as f64 + 0.5) / 10.0).collect();
+    let mut all = vec![Series {
+        label: "calibrated",
+        values: &midpoints,
+        colour: [160, 160, 160],
+    }];
+    all.extend_from_slice(series);
+    let legend = |s: &Series| {
+        let worst = s
+            .values
+            .iter()
+            .zip(&midpoints)
+            .filter(|(v, _)| v.is_finite())
+            .map(|(v, m)| (v - m).abs())
+            .fold(0.0, f64::max);
+        format!("{} [{worst:.3}]", s.label)
+    };
+    let axes = Axes {
+        x_label: "confidence",
+        x_decimals: 1,
+        y_label: "share of frames on the target (IoU >= 0.5)",
+        x_max: 1.0,
+        span: (0.05, 0.95),
+        legend_at: SeriesLabelPosition::UpperLeft,
+    };
+    line_plot(path.as_ref(), title, &axes, &all, legend)
 }
 
 struct Axes {
     x_label: &'static str,
     x_decimals: usize,
     y_label: &'static str,
+    /// The x axis runs from 0 to this.
     x_max: f64,
+    /// The x of a series' first and last values (the others evenly between).
+    span: (f64, f64),
     legend_at: SeriesLabelPosition,
 }
 
@@ -462,21 +505,18 @@ fn line_plot(
         for s in series {
             let [r, g, b] = s.colour;
             let colour = RGBColor(r, g, b);
+            let (first, last) = axes.span;
             let step = if s.values.len() > 1 {
-                axes.x_max / (s.values.len() - 1) as f64
+                (last - first) / (s.values.len() - 1) as f64
             } else {
                 0.0
             };
-            let points = s.values.iter().enumerate().map(|(k, &v)| {
-                (
-                    k as f64 * step,
-                    if v.is_finite() {
-                        v.clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    },
-                )
-            });
+            let points = s
+                .values
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.is_finite())
+                .map(|(k, &v)| (first + k as f64 * step, v.clamp(0.0, 1.0)));
             chart
                 .draw_series(LineSeries::new(points, colour.stroke_width(2)))
                 .map_err(|e| perr(&e))?

@@ -359,6 +359,7 @@ mod tests {
                 ellipse: rbtrack::Ellipse::new(Q16::ZERO, Q16::ZERO, Q16::ONE, Q16::ONE),
                 vx: Q16::ZERO,
                 vy: Q16::ZERO,
+                score: Q16::ONE,
                 confidence: Q16::ONE,
                 status: rbtrack::Status::Tracking,
             },

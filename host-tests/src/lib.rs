@@ -1,6 +1,7 @@
 //! Host harness for rbtrack: f64 reference implementations, synthetic scenes, metrics and
 //! the `rbtrack` command-line program.
 
+pub mod calibrate;
 pub mod camera;
 pub mod cf64;
 pub mod cli;

@@ -7,7 +7,8 @@
 //! consecutive lost frames; it is *flagged* when the status is `Lost` on one of its first
 //! [`FLAG_WITHIN`] frames. A *failure* (VOT style) starts at a frame of IoU 0 after one of
 //! IoU above 0 and lasts until the IoU is above 0 again, the frames to recover counted from
-//! its first frame.
+//! its first frame. A frame is *on the target* when it is good; the *reliability* of the
+//! confidence is, per tenth of it, the share of its frames on the target.
 
 use crate::metrics::BBox;
 use rbtrack::tracker::{Estimate, Status};
@@ -27,6 +28,8 @@ pub const FLAG_WITHIN: usize = 5;
 pub struct FrameCheck {
     /// IoU of the estimate with the ground truth.
     pub iou: f64,
+    /// The tracker's own score, 0..=1.
+    pub score: f64,
     /// The tracker's confidence, 0..=1.
     pub confidence: f64,
     /// Whether the status is `Lost`.
@@ -47,11 +50,59 @@ pub fn frame_checks(
         .map(|((t, b), e)| {
             t.is_valid().then(|| FrameCheck {
                 iou: t.iou(b),
+                score: e.score.to_f64(),
                 confidence: e.confidence.to_f64(),
                 flagged: e.status == Status::Lost,
             })
         })
         .collect()
+}
+
+/// Bins of a reliability table: tenths of the confidence.
+pub const BINS: usize = 10;
+
+/// Frames in one bin of confidence and those on the target.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Bin {
+    /// Frames whose value falls in the bin.
+    pub frames: usize,
+    /// Of those, the frames of IoU at least [`GOOD_IOU`].
+    pub on_target: usize,
+}
+
+impl Bin {
+    /// The share of the bin's frames on the target; `None` when empty.
+    pub fn share(&self) -> Option<f64> {
+        (self.frames > 0).then(|| self.on_target as f64 / self.frames as f64)
+    }
+}
+
+/// Per tenth of `value` (the confidence, or the score), the frames and those on the
+/// target; 1 falls in the last tenth.
+pub fn reliability<'a>(
+    checks: impl IntoIterator<Item = &'a FrameCheck>,
+    value: impl Fn(&FrameCheck) -> f64,
+) -> [Bin; BINS] {
+    let mut bins = [Bin::default(); BINS];
+    for f in checks {
+        let i = ((value(f).clamp(0.0, 1.0) * BINS as f64) as usize).min(BINS - 1);
+        bins[i].frames += 1;
+        bins[i].on_target += usize::from(f.iou >= GOOD_IOU);
+    }
+    bins
+}
+
+/// The largest distance of a non-empty bin's on-target share from its tenth's midpoint,
+/// over bins of at least `min_frames` frames.
+pub fn worst_gap(bins: &[Bin; BINS], min_frames: usize) -> Option<f64> {
+    bins.iter()
+        .enumerate()
+        .filter(|(_, b)| b.frames >= min_frames.max(1))
+        .filter_map(|(i, b)| {
+            b.share()
+                .map(|s| (s - (i as f64 + 0.5) / BINS as f64).abs())
+        })
+        .reduce(f64::max)
 }
 
 /// Counts of one or more runs, added up.
@@ -182,6 +233,9 @@ pub struct LossReport {
     /// Mean frames from a failure's start until the IoU is above 0 again (those that
     /// recover).
     pub recover_frames: Option<f64>,
+    /// Per tenth of the confidence, the frames and those on the target
+    /// ([`crate::calibrate`]).
+    pub reliability: [Bin; BINS],
 }
 
 impl LossReport {
@@ -195,12 +249,13 @@ impl LossReport {
         let share = |a: usize, b: usize| (b > 0).then(|| a as f64 / b as f64);
         Self {
             lost_share: share(c.lost, c.frames).unwrap_or(0.0),
-            roc_auc: loss_roc_auc(runs.into_iter().flatten().flatten()),
+            roc_auc: loss_roc_auc(runs.clone().into_iter().flatten().flatten()),
             losses: c.losses,
             flagged_share: share(c.losses_flagged, c.losses),
             good_flagged_share: share(c.good_flagged, c.good),
             failures_per_run: share(c.failures, n).unwrap_or(0.0),
             recover_frames: share(c.recover_frames, c.recoveries),
+            reliability: reliability(runs.into_iter().flatten().flatten(), |f| f.confidence),
         }
     }
 }
@@ -212,9 +267,38 @@ mod tests {
     fn check(iou: f64, confidence: f64, flagged: bool) -> Option<FrameCheck> {
         Some(FrameCheck {
             iou,
+            score: confidence,
             confidence,
             flagged,
         })
+    }
+
+    #[test]
+    fn reliability_bins_by_tenth() {
+        let frame = |confidence: f64, on: bool| FrameCheck {
+            iou: if on { 0.8 } else { 0.0 },
+            score: confidence,
+            confidence,
+            flagged: false,
+        };
+        let frames = [frame(0.05, false), frame(0.05, true), frame(1.0, true)];
+        let bins = reliability(frames.iter(), |f| f.confidence);
+        assert_eq!(
+            bins[0],
+            Bin {
+                frames: 2,
+                on_target: 1
+            }
+        );
+        assert_eq!(
+            bins[9],
+            Bin {
+                frames: 1,
+                on_target: 1
+            }
+        );
+        assert_eq!(bins.iter().map(|b| b.frames).sum::<usize>(), 3);
+        assert_eq!(worst_gap(&bins, 1), Some(0.45));
     }
 
     #[test]

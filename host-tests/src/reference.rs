@@ -401,7 +401,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
                 ellipse: init,
                 vx: 0.0,
                 vy: 0.0,
-                confidence: 1.0,
+                confidence: calibrated(&config, 1.0),
                 status: Status::Tracking,
             },
             last_confident: init,
@@ -761,7 +761,8 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
                 best = (likelihood, factor, rho);
             }
         }
-        (best.0 > 0.0 && best.2 >= self.config.lost_below.to_f64()).then_some(best.1)
+        (best.0 > 0.0 && calibrated(&self.config, best.2) >= self.config.lost_below.to_f64())
+            .then_some(best.1)
     }
 
     /// Measures the size as the weighted mean's times `factor` and gives every size the
@@ -850,8 +851,9 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
             }
         };
         let hist = self.histogram(frame, &estimate.ellipse);
-        let confidence = self.bhattacharyya(&hist);
+        let score = self.bhattacharyya(&hist);
         let c = &self.config;
+        let confidence = calibrated(c, score);
         estimate.confidence = confidence;
         estimate.status = if confidence < c.lost_below.to_f64() {
             Status::Lost
@@ -876,7 +878,7 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
         let c = &self.config;
         let rate = c.adapt_rate.to_f64();
         let empty = hist.iter().all(|&p| p == 0.0);
-        if confidence >= c.adapt_above.to_f64() && rate > 0.0 && !empty {
+        if score >= c.adapt_above.to_f64() && rate > 0.0 && !empty {
             for (q, p) in self.model.iter_mut().zip(&hist) {
                 *q = (1.0 - rate) * *q + rate * p;
             }
@@ -944,4 +946,14 @@ impl<Bn: Binning> ReferenceTracker<Bn> {
 
 fn bounds<P: PixelFormat>(config: &Config, frame: &ImageView<'_, P>) -> Bounds {
     Bounds::for_frame(frame.width(), frame.height(), config.min_half_axis.to_f64())
+}
+
+/// The confidence of a window of coefficient `score` by the core's table of the
+/// configured variant.
+fn calibrated(config: &Config, score: f64) -> f64 {
+    config
+        .variant
+        .calibration()
+        .confidence(Q16::from_f64(score))
+        .to_f64()
 }

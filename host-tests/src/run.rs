@@ -409,7 +409,8 @@ fn cf64_estimate(out: &cf64::Output) -> Estimate {
         ellipse: ellipse_of(&out.bbox),
         vx: Q16::from_f64(out.velocity.0),
         vy: Q16::from_f64(out.velocity.1),
-        confidence: Q16::from_f64(out.confidence.clamp(0.0, 1.0)),
+        score: Q16::from_f64(out.score),
+        confidence: Q16::from_f64(out.confidence),
         status: out.status,
     }
 }

@@ -24,6 +24,9 @@ pub const GROUNDTRUTH_FILE: &str = "groundtruth_rect.txt";
 /// Environment variable that overrides where [`shared_data_dir`] looks for sequences.
 pub const DATA_ENV: &str = "RBTRACK_DATA";
 
+/// Environment variable naming the validation sequences' folder.
+pub const VALSET_ENV: &str = "RBTRACK_VALSET";
+
 /// The sequences of the shared development data ([`shared_data_dir`]) whose ground truth
 /// is 0-based, as that folder's README states; the others there are 1-based.
 pub const SHARED_ZERO_BASED: [&str; 1] = ["ball1_vot15"];
@@ -459,6 +462,17 @@ pub fn shared_data_dir() -> Option<PathBuf> {
     let dir = match std::env::var_os(DATA_ENV) {
         Some(d) => PathBuf::from(d),
         None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"),
+    };
+    dir.is_dir().then_some(dir)
+}
+
+/// Where the validation sequences are (built by `../shared/tools/valset/`):
+/// `$RBTRACK_VALSET` if set, else `valset` beside the repository (`<repo>/../valset`).
+/// `None` when that folder does not exist.
+pub fn validation_data_dir() -> Option<PathBuf> {
+    let dir = match std::env::var_os(VALSET_ENV) {
+        Some(d) => PathBuf::from(d),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../valset"),
     };
     dir.is_dir().then_some(dir)
 }

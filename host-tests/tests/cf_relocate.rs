@@ -5,6 +5,7 @@
 use rbtrack::image::Rgb888;
 use rbtrack::tracker::CfConfig;
 use rbtrack::{ImageView, Rect, RgbCfTracker};
+use rbtrack_host::metrics::BBox;
 use rbtrack_host::pixels::{Format, Frame};
 use rbtrack_host::run::{bbox_of, ellipse_of};
 use rbtrack_host::sequence::{shared_data_dir, GtOrigin, Sequence};
@@ -17,11 +18,16 @@ fn view(frame: &Frame) -> ImageView<'_, Rgb888> {
     ImageView::new(&frame.bytes, w, h, w).expect("an RGB888 frame")
 }
 
-/// On the frames after `name` loses the target from its first box (IoU below 0.1 for 5
-/// frames in a row), how many of the next [`AFTER`] frames are on the target (IoU at
-/// least 0.5): relocated there onto the ground-truth box, left alone, started afresh on
-/// the box; `None` if it never loses the target.
-fn after_the_loss(data: &std::path::Path, name: &str) -> Option<(usize, [usize; 3])> {
+/// On the frames after `name` loses the target from its first box (the ground truth's
+/// shifted by `shift`, px) (IoU below 0.1 for 5 frames in a row), how many of the next
+/// [`AFTER`] frames are on the target (IoU at least 0.5): relocated there onto the
+/// ground-truth box, left alone, started afresh on the box; `None` if it never loses the
+/// target.
+fn after_the_loss(
+    data: &std::path::Path,
+    name: &str,
+    shift: (f64, f64),
+) -> Option<(usize, [usize; 3])> {
     let seq = Sequence::open(data.join(name), GtOrigin::of_shared(name)).expect("opens");
     let frames: Vec<Frame> = seq.frames().map(|f| f.expect("decodes")).collect();
     assert!(frames.iter().all(|f| f.format == Format::Rgb888));
@@ -30,8 +36,13 @@ fn after_the_loss(data: &std::path::Path, name: &str) -> Option<(usize, [usize; 
     let config = CfConfig::default();
 
     let mut tracker = Box::new(RgbCfTracker::unstarted());
+    let first = BBox {
+        x: truth[0].x + shift.0,
+        y: truth[0].y + shift.1,
+        ..truth[0]
+    };
     tracker
-        .start(config, &view(&frames[0]), rect(0))
+        .start(config, &view(&frames[0]), Rect::from(ellipse_of(&first)))
         .expect("starts");
     let mut off = 0;
     let lost_at = (1..frames.len()).find(|&k| {
@@ -69,9 +80,10 @@ fn after_the_loss(data: &std::path::Path, name: &str) -> Option<(usize, [usize; 
     Some((lost_at, counts))
 }
 
-/// On `KiteSurf` the surfer is lost from the first box; relocated onto the ground-truth
-/// box, the tracker is on him on at least 15 of the next 20 frames, where left alone it
-/// is on at most 5 (skipped without ../shared/data). `Girl`'s figures are printed too:
+/// On `KiteSurf` the surfer is lost from the first box shifted 2 px left (the 7-start
+/// protocol's `left2`); relocated onto the ground-truth box, the tracker is on him on at
+/// least 15 of the next 20 frames, where left alone it is on at most 5 (skipped without
+/// ../shared/data). `Girl`'s figures are printed too:
 /// there the tracker lost her to a man's face it went on learning, and the relocated
 /// tracker, whose models hold that face, does worse than one started afresh.
 #[test]
@@ -81,7 +93,7 @@ fn a_detectors_box_brings_the_lost_target_back() {
         return;
     };
     let (_, [relocated, alone, _]) =
-        after_the_loss(&data, "KiteSurf").expect("KiteSurf's surfer is lost");
+        after_the_loss(&data, "KiteSurf", (-2.0, 0.0)).expect("KiteSurf's surfer is lost");
     assert!(relocated >= 15 && alone <= 5, "{relocated} {alone}");
-    after_the_loss(&data, "Girl");
+    after_the_loss(&data, "Girl", (0.0, 0.0));
 }

@@ -1472,10 +1472,23 @@ fn eval_over_seeds() {
     // The table: means over seeds with the AUC's range, and the set's mean per seed.
     let mut args = common.to_vec();
     let plots = dir.join("plots");
-    args.extend(["--out", path(&plots)]);
+    args.extend(["--out", path(&plots), "--calibrate"]);
     let o = rbtrack(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
+    assert!(plots.join("reliability.png").is_file(), "{text}");
+    // --calibrate: per tracker, the fitted table of 10 knots from score 0 to 1.
+    let tables: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("  table: [(0, "))
+        .collect();
+    assert_eq!(tables.len(), 2, "{text}");
+    assert!(
+        tables
+            .iter()
+            .all(|t| t.matches('(').count() == 10 && t.contains("(1000, ")),
+        "{text}"
+    );
     let header = text.lines().find(|l| l.starts_with("sequence")).unwrap();
     assert!(
         header.contains("AUC min") && header.contains("AUC max"),
@@ -1491,11 +1504,25 @@ fn eval_over_seeds() {
     let loss_rows = text
         .lines()
         .skip_while(|l| !l.starts_with("loss detection"))
+        .take_while(|l| !l.starts_with("reliability"))
         .filter(|l| {
             ["Alpha", "Beta", "Zero", "all"].contains(&l.split_whitespace().next().unwrap_or(""))
         })
         .count();
     assert_eq!(loss_rows, 8, "{text}");
+    // The reliability table: a row per tracker, ten tenths and the largest distance.
+    let reliability: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("reliability"))
+        .filter(|l| l.starts_with("all"))
+        .collect();
+    assert_eq!(reliability.len(), 2, "{text}");
+    assert!(
+        reliability
+            .iter()
+            .all(|l| l.matches(')').count() + l.matches(" - ").count() >= 10),
+        "{text}"
+    );
     let per_seed = text
         .lines()
         .find(|l| l.starts_with("mean AUC per seed"))

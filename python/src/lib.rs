@@ -274,10 +274,18 @@ impl Tracker {
         Ok(status_name(self.last()?.status))
     }
 
-    /// How sure the tracker is, 0..1.
+    /// How sure the tracker is, 0..1: about the chance that the box overlaps the
+    /// target's by an IoU of at least 0.5, alike for every tracker; it sets the status.
     #[getter]
     fn confidence(&self) -> PyResult<f64> {
         Ok(self.last()?.confidence.to_f64())
+    }
+
+    /// The tracker's own score, 0..1, before calibration (a particle filter's colour
+    /// coefficient less its spread, the correlation filter's response peak).
+    #[getter]
+    fn score(&self) -> PyResult<f64> {
+        Ok(self.last()?.score.to_f64())
     }
 
     /// `"cf"`, `"rbpf"` or `"pf"`.

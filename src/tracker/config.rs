@@ -1,5 +1,6 @@
 //! Tracker configuration: [`Config`], checked once, and what a tracker derives from it.
 
+use super::calibration::{self, Calibration};
 use crate::colour::ColourSettings;
 use crate::cue::{self, GradientConfig, GradientCue, DEFAULT_SATURATION};
 use crate::fixed::Q16;
@@ -16,6 +17,16 @@ pub enum Variant {
     /// The Rao-Blackwellised particle filter: motion sampled, ellipse size by a Kalman
     /// filter per particle, colour and boundary-gradient cues.
     Rbpf,
+}
+
+impl Variant {
+    /// The variant's confidence table ([`crate::tracker::calibration`]).
+    pub const fn calibration(self) -> Calibration {
+        match self {
+            Self::ColourPf => calibration::COLOUR_PF,
+            Self::Rbpf => calibration::RBPF,
+        }
+    }
 }
 
 /// How the colour and gradient likelihoods combine into a particle weight (RBPF).
@@ -114,16 +125,18 @@ pub struct Config {
     pub readout: Readout,
     /// Model adaptation rate `a` in `q <- (1 - a) q + a p`, Q16.16 in `[0, 1]` (0: fixed model).
     pub adapt_rate: Q16,
-    /// Adapt only when the confidence is at least this, Q16.16 in `[0, 1]`.
+    /// Adapt only when the score (before calibration) is at least this, Q16.16 in `[0, 1]`.
     pub adapt_above: Q16,
-    /// How much the particles' spread lowers the confidence: the confidence is the
+    /// How much the particles' spread lowers the score: the score is the
     /// estimate's colour coefficient minus this times the spread (the particles' weighted
     /// mean distance `|dx| + |dy|` from the estimate's centre over its mean half-axis),
     /// Q16.16 in `[0, 4]` (0: the coefficient alone).
     pub spread_penalty: Q16,
-    /// Status `Uncertain` below this confidence, Q16.16 in `[0, 1]`.
+    /// Status `Uncertain` below this confidence, Q16.16 in `[0, 1]` (by default the
+    /// threshold every tracker shares, [`calibration::UNCERTAIN_BELOW`]).
     pub uncertain_below: Q16,
-    /// Status `Lost` below this confidence, Q16.16 in `[0, uncertain_below]`.
+    /// Status `Lost` below this confidence, Q16.16 in `[0, uncertain_below]` (by default
+    /// [`calibration::LOST_BELOW`]).
     pub lost_below: Q16,
     /// Share of particles re-drawn uniformly over the frame each frame while the status is
     /// not `Tracking`,
@@ -360,9 +373,9 @@ impl Config {
     ///   (1 % a frame) and weighs the contrast cue (sigma 0.2); the ground-plane slope is
     ///   not learnt (on the real sequences the learnt slope did not raise the accuracy:
     ///   docs/accuracy.md);
-    /// - status: the confidence is the colour coefficient less 0.3 times the particles'
-    ///   spread; `Uncertain` below 0.75, `Lost` below 0.4 (calibrated on the dev set: 4 %
-    ///   of frames on the target flagged `Lost`, docs/accuracy.md);
+    /// - status: the score is the colour coefficient less 0.3 times the particles'
+    ///   spread, the confidence that score through the variant's table; `Uncertain` below
+    ///   0.5 and `Lost` below 0.1, as every tracker;
     /// - search: while not `Tracking`, a quarter of the particles are re-drawn over the
     ///   frame with prior weight 1/200;
     /// - 300 pixels per window, 24 gradient points searched 2 px each side, systematic
@@ -391,8 +404,8 @@ impl Config {
             adapt_rate: Q16::ZERO,
             adapt_above: decimal(85, 100),
             spread_penalty: decimal(3, 10),
-            uncertain_below: decimal(75, 100),
-            lost_below: decimal(4, 10),
+            uncertain_below: calibration::UNCERTAIN_BELOW,
+            lost_below: calibration::LOST_BELOW,
             redetect_share: decimal(25, 100),
             scale_per_row: Q16::ZERO,
             kalman_q: decimal(1, 100),
@@ -420,7 +433,7 @@ impl Config {
     /// the two likelihoods with `a = 0.5` (its eq. 10d), filters the size with the paper's
     /// Kalman `Q = 4 I`, `R = 2 I`, measured by likelihood, and takes `scale_per_row` as
     /// given. Re-detection as before the object map: half the particles, no prior. The
-    /// confidence is the coefficient alone, `Lost` below 0.6.
+    /// score is the coefficient alone, `Lost` below a score of 0.6.
     pub const fn paper(variant: Variant) -> Self {
         let rbpf = matches!(variant, Variant::Rbpf);
         Self {
@@ -436,7 +449,7 @@ impl Config {
             cue_mix: CueMix::Average(Q16::HALF),
             adapt_rate: decimal(5, 100),
             spread_penalty: Q16::ZERO,
-            lost_below: decimal(6, 10),
+            lost_below: variant.calibration().confidence(decimal(6, 10)),
             redetect_share: Q16::HALF,
             kalman_q: Q16::from_int(4),
             kalman_r: Q16::from_int(2),

@@ -13,11 +13,13 @@
 //!    box there ([`crate::cf::colour`], `2G x 2G` samples of the region).
 //! 4. The two merge as `(1 - merge) filter + merge colour` over the moves that keep the
 //!    target box inside the region, each axis on its own; the best move, refined between
-//!    cells by parabolas, is the new position and the merged peak the confidence.
+//!    cells by parabolas, is the new position and the merged peak the score; the score
+//!    through the tracker's table ([`crate::tracker::calibration`]) is the confidence,
+//!    which sets the status.
 //! 5. The scale filter ([`crate::cf::scale`]) finds the size there, at most
-//!    `max_scale_change` away from the last; the size changes only when the confidence is
-//!    at least `scale_above`.
-//! 6. When the confidence is at least `learn_above`, the three models learn the frame:
+//!    `max_scale_change` away from the last; the size changes only when the score is at
+//!    least `scale_above`.
+//! 6. When the score is at least `learn_above`, the three models learn the frame:
 //!    the search region's spectra and colour samples with the target where it was found,
 //!    and the scale samples.
 //!
@@ -36,7 +38,7 @@
 //! the feature grid (`20 G^2` bytes), the colour map (`4 (2G + 1)^2` bytes) and the scale
 //! filter; `examples/budget.rs` reports it.
 
-use super::{CameraMotion, ConfigError, Estimate, Status};
+use super::{calibration, CameraMotion, ConfigError, Estimate, Status};
 use crate::cf::colour::{ColourMap, ColourModel, Grid, SampleBox};
 use crate::cf::features::{extract, Cell, Sampling, CHANNELS};
 use crate::cf::filter::{Filter, FilterSettings};
@@ -94,14 +96,16 @@ pub struct CfConfig {
     pub scale_rate: Q16,
     /// Largest change of size in a frame, a factor, Q16.16 at least 1.
     pub max_scale_change: Q16,
-    /// Learn only from frames whose confidence is at least this, Q16.16.
+    /// Learn only from frames whose score (merged peak) is at least this, Q16.16.
     pub learn_above: Q16,
-    /// Change the size only on frames whose confidence is at least this, Q16.16: a
+    /// Change the size only on frames whose score is at least this, Q16.16: a
     /// frame too unsure of where the target is cannot say how big it is.
     pub scale_above: Q16,
-    /// Below this confidence the target is uncertain, Q16.16 in `[0, 1]`.
+    /// Below this confidence the target is uncertain, Q16.16 in `[0, 1]` (by default the
+    /// threshold every tracker shares, [`calibration::UNCERTAIN_BELOW`]).
     pub uncertain_below: Q16,
-    /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]`; once lost, it
+    /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]` (by default
+    /// [`calibration::LOST_BELOW`]); once lost, it
     /// stays lost until the confidence reaches `uncertain_below` (no flicker about one
     /// threshold).
     pub lost_below: Q16,
@@ -149,8 +153,8 @@ impl CfConfig {
             max_scale_change: q(1.08),
             learn_above: q(0.2),
             scale_above: q(0.25),
-            uncertain_below: q(0.3),
-            lost_below: q(0.22),
+            uncertain_below: calibration::UNCERTAIN_BELOW,
+            lost_below: calibration::LOST_BELOW,
             redetect: 2,
             redetect_above: q(0.3),
             redetect_colour: q(0.5),
@@ -338,7 +342,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             anchor: (Q16::ZERO, Q16::ZERO),
             lost_velocity: (Q16::ZERO, Q16::ZERO),
             lost_frames: 0,
-            estimate: Estimate::at_rest(origin, Q16::ZERO, Status::Lost),
+            estimate: Estimate::lost_at(origin),
             _binning: PhantomData,
         }
     }
@@ -438,7 +442,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
                 .min(ratio(frame_size.1, size.1))
                 .max(Q16::ONE),
         );
-        self.estimate = Estimate::at_rest(Ellipse::from(init), Q16::ONE, Status::Tracking);
+        self.estimate = Estimate::first(Ellipse::from(init), &calibration::CORRELATION);
     }
 
     /// The configuration.
@@ -501,7 +505,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             cycles.redetect = cycles.redetect.saturating_add(spent.search());
         }
         self.centre = found.found;
-        let confidence = found.peak.max(Q16::ZERO).min(Q16::ONE);
+        let score = found.peak.max(Q16::ZERO).min(Q16::ONE);
+        let confidence = calibration::CORRELATION.confidence(score);
         let status = c.status(confidence, self.estimate.status);
         if status == Status::Lost {
             if self.lost_frames == 0 {
@@ -520,13 +525,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             .min(c.max_scale_change);
         cycles.scale = watch.lap();
         let old_size = self.size;
-        let factor = match confidence >= c.scale_above {
+        let factor = match score >= c.scale_above {
             true => factor,
             false => Q16::ONE,
         };
         self.resize(self.factor.saturating_mul(factor));
 
-        if confidence >= c.learn_above {
+        if score >= c.learn_above {
             let cell = Q16::from_int(c.cell as i32);
             let shift = (
                 found.moved.1.saturating_div(cell),
@@ -551,6 +556,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             ellipse: self.ellipse(),
             vx: velocity.0,
             vy: velocity.1,
+            score,
             confidence,
             status,
         };

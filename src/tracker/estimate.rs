@@ -2,6 +2,7 @@
 //! confidence: how well that window matches the colour model, less how widely the
 //! particles disagree; it sets the status), and the model's adaptation.
 
+use super::calibration::Calibration;
 use super::particle::Particle;
 use super::{Readout, Tracker};
 use crate::fixed::Q16;
@@ -20,10 +21,11 @@ use crate::window::Ellipse;
 pub enum Status {
     /// Confidence at or above `uncertain_below`.
     Tracking = 2,
-    /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, the tracker searches
-    /// the whole frame with part of its particles.
+    /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, a particle filter
+    /// searches the whole frame with part of its particles.
     Uncertain = 1,
-    /// Confidence below `lost_below`.
+    /// Confidence below `lost_below` (the correlation filter: and, once lost, until
+    /// `uncertain_below`).
     Lost = 0,
 }
 
@@ -37,9 +39,14 @@ pub struct Estimate {
     pub vx: Q16,
     /// Vertical velocity, px/frame, Q16.16.
     pub vy: Q16,
+    /// The tracker's own score of the estimate, Q16.16 in `[0, 1]`: a particle filter's
     /// Bhattacharyya coefficient of the estimate's window against the model, less
-    /// `spread_penalty` times the particles' spread ([`super::Config::spread_penalty`]),
-    /// Q16.16 in `[0, 1]`.
+    /// `spread_penalty` times the particles' spread ([`super::Config::spread_penalty`]);
+    /// the correlation filter's merged response peak.
+    pub score: Q16,
+    /// The score through the tracker's [`super::Calibration`]: about the chance that the
+    /// estimate's box overlaps the target's by an IoU of at least 0.5, the same for every
+    /// tracker at its defaults; it sets the status. Q16.16 in `[0, 1]`.
     pub confidence: Q16,
     /// Tracking, uncertain or lost.
     pub status: Status,
@@ -52,14 +59,27 @@ impl Estimate {
         self.ellipse.into()
     }
 
-    /// A target at rest on `ellipse`.
-    pub(super) const fn at_rest(ellipse: Ellipse, confidence: Q16, status: Status) -> Self {
+    /// The first box's estimate: at rest on `ellipse`, tracking, of score 1.
+    pub(super) const fn first(ellipse: Ellipse, calibration: &Calibration) -> Self {
         Self {
             ellipse,
             vx: Q16::ZERO,
             vy: Q16::ZERO,
-            confidence,
-            status,
+            score: Q16::ONE,
+            confidence: calibration.confidence(Q16::ONE),
+            status: Status::Tracking,
+        }
+    }
+
+    /// A lost target at rest on `ellipse`, of score and confidence 0.
+    pub(super) const fn lost_at(ellipse: Ellipse) -> Self {
+        Self {
+            ellipse,
+            vx: Q16::ZERO,
+            vy: Q16::ZERO,
+            score: Q16::ZERO,
+            confidence: Q16::ZERO,
+            status: Status::Lost,
         }
     }
 }
@@ -96,11 +116,13 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         let location = self.locate();
         let rho = self.compare(frame, &location.ellipse).rho;
         let penalty = self.config.spread_penalty * self.spread(&location.ellipse);
-        let confidence = rho.saturating_sub(penalty).clamp(Q16::ZERO, Q16::ONE);
+        let score = rho.saturating_sub(penalty).clamp(Q16::ZERO, Q16::ONE);
+        let confidence = self.config.variant.calibration().confidence(score);
         let estimate = Estimate {
             ellipse: location.ellipse,
             vx: location.vx,
             vy: location.vy,
+            score,
             confidence,
             status: self.status(confidence),
         };
@@ -149,7 +171,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// confidence is at least `adapt_above`.
     fn adapt<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>, estimate: &Estimate) {
         let rate = self.config.adapt_rate;
-        if estimate.confidence < self.config.adapt_above || rate <= Q16::ZERO {
+        if estimate.score < self.config.adapt_above || rate <= Q16::ZERO {
             return;
         }
         let (colour, histograms) = (&mut self.state.model.colour, &mut self.scratch.histograms);
@@ -271,7 +293,7 @@ mod tests {
             let e = t.read_out(&frame);
             let penalty = config.spread_penalty.to_f64() * want;
             assert!(
-                (e.confidence.to_f64() - (rho.to_f64() - penalty)).abs() < 1e-3,
+                (e.score.to_f64() - (rho.to_f64() - penalty)).abs() < 1e-3,
                 "{variant:?}: {e:?}, rho {rho}, penalty {penalty}"
             );
         }

@@ -89,6 +89,7 @@
 //! assert!((estimate.ellipse.cx.to_f64() - 31.5).abs() < 3.0);
 //! ```
 
+pub mod calibration;
 mod camera;
 mod config;
 mod contrast;
@@ -101,6 +102,7 @@ mod size;
 mod weigh;
 
 pub use crate::resample::Scheme;
+pub use calibration::Calibration;
 pub use camera::CameraMotion;
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
 pub use correlation::{CfConfig, CfTracker};
@@ -265,7 +267,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 size_cov: SharedCovariance::UNSET,
                 model: TargetModel::UNSET,
                 ground: GroundPlane::new(),
-                estimate: Estimate::at_rest(origin, Q16::ZERO, Status::Lost),
+                estimate: Estimate::lost_at(origin),
                 last_confident: origin,
                 motion_spread: None,
             },
@@ -375,11 +377,12 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
     /// Every particle at rest on `init` with equal weights, the size covariance
     /// `size_cov`, and `init` the estimate.
     fn place(&mut self, init: Ellipse, size_cov: SharedCovariance) {
+        let calibration = self.config.variant.calibration();
         let state = &mut self.state;
         state.particles = [Particle::at(&init); N];
         state.weights = [WEIGHT_TOTAL / N as u32; N];
         state.size_cov = size_cov;
-        state.estimate = Estimate::at_rest(init, Q16::ONE, Status::Tracking);
+        state.estimate = Estimate::first(init, &calibration);
         state.last_confident = init;
         state.motion_spread = None;
         self.scratch.memo.start_frame();

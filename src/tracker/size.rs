@@ -128,7 +128,9 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
                 Candidate {
                     score,
                     factor,
-                    usable: m.rho >= self.config.lost_below && matched,
+                    usable: self.config.variant.calibration().confidence(m.rho)
+                        >= self.config.lost_below
+                        && matched,
                 }
             }
         }

@@ -69,7 +69,12 @@ pub struct rbt_estimate {
     pub vx: rbt_q16,
     /// Vertical velocity, px/frame, Q16.16.
     pub vy: rbt_q16,
-    /// How well the window matches the model, less the particles' spread, Q16.16 in [0, 1].
+    /// The tracker's own score, Q16.16 in [0, 1]: a particle filter's colour coefficient
+    /// less the particles' spread, the correlation filter's response peak.
+    pub score: rbt_q16,
+    /// The score through the tracker's calibration: about the chance that the box
+    /// overlaps the target's by an IoU of at least 0.5, alike for every tracker; it sets
+    /// the status. Q16.16 in [0, 1].
     pub confidence: rbt_q16,
     /// An `rbt_status`.
     pub status: u32,
@@ -92,6 +97,7 @@ impl From<Estimate> for rbt_estimate {
             hy: el.hy.to_bits(),
             vx: e.vx.to_bits(),
             vy: e.vy.to_bits(),
+            score: e.score.to_bits(),
             confidence: e.confidence.to_bits(),
             status: match e.status {
                 Status::Lost => rbt_status::RBT_STATUS_LOST,
@@ -116,6 +122,7 @@ impl rbt_estimate {
             ellipse: Ellipse::new(q(self.cx), q(self.cy), q(self.hx), q(self.hy)),
             vx: q(self.vx),
             vy: q(self.vy),
+            score: q(self.score),
             confidence: q(self.confidence),
             status,
         })

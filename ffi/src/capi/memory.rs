@@ -188,10 +188,10 @@ pub(super) unsafe fn with_particles(
 // `place` checks the memory it is given against the size on the target it runs on.
 /// Bytes of memory for a tracker of 25 particles on 512 RGB bins (8x8x8) (32-bit targets).
 #[cfg(target_pointer_width = "32")]
-pub const RBT_TRACKER_RGB_25_SIZE: usize = 50840;
+pub const RBT_TRACKER_RGB_25_SIZE: usize = 50848;
 /// Bytes of memory for a tracker of 25 particles on 512 RGB bins (8x8x8) (64-bit targets).
 #[cfg(target_pointer_width = "64")]
-pub const RBT_TRACKER_RGB_25_SIZE: usize = 50880;
+pub const RBT_TRACKER_RGB_25_SIZE: usize = 50888;
 /// Bytes of memory for a tracker of 50 particles on 512 RGB bins (8x8x8) (32-bit targets).
 #[cfg(target_pointer_width = "32")]
 pub const RBT_TRACKER_RGB_50_SIZE: usize = 52048;
@@ -231,11 +231,11 @@ pub const RBT_TRACKER_LUMA_100_SIZE: usize = 32080;
 /// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 /// scales, 512 RGB bins (8x8x8) (32-bit targets).
 #[cfg(target_pointer_width = "32")]
-pub const RBT_TRACKER_CF_SIZE: usize = 70616;
+pub const RBT_TRACKER_CF_SIZE: usize = 70624;
 /// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 /// scales, 512 RGB bins (8x8x8) (64-bit targets).
 #[cfg(target_pointer_width = "64")]
-pub const RBT_TRACKER_CF_SIZE: usize = 70688;
+pub const RBT_TRACKER_CF_SIZE: usize = 70696;
 /// Alignment of every tracker's memory, bytes.
 pub const RBT_TRACKER_ALIGN: usize = 8;
 

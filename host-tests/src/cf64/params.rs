@@ -4,6 +4,7 @@
 use super::fhog::Hog;
 use super::image::Resample;
 use crate::fields::{self, field_table, FieldValue};
+use rbtrack::tracker::calibration;
 use serde_json::Value;
 
 /// The tracker's settings. [`Params::default`] is the configuration the measurements in
@@ -68,10 +69,10 @@ pub struct Params {
     /// Read the scale between samples: the top of the parabola through the response's
     /// peak and its neighbours.
     pub scale_interpolate: bool,
-    /// Learn only from frames whose confidence is at least this: an occluder or a
+    /// Learn only from frames whose score is at least this: an occluder or a
     /// look-alike scores low and is not learnt.
     pub learn_above: f64,
-    /// Change the size only on frames whose confidence is at least this.
+    /// Change the size only on frames whose score is at least this.
     pub scale_above: f64,
     /// While lost, search where the target would be had it kept its velocity.
     pub coast: bool,
@@ -84,7 +85,7 @@ pub struct Params {
     pub lost_below: f64,
     /// Regions searched besides the usual one per frame while lost (0: none).
     pub redetect: usize,
-    /// A region searched while lost takes over when its confidence is at least this...
+    /// A region searched while lost takes over when its score is at least this...
     pub redetect_above: f64,
     /// ...and its colour response there at least this.
     pub redetect_colour: f64,
@@ -135,8 +136,8 @@ impl Default for Params {
             scale_above: 0.0,
             coast: false,
             lead: 0.0,
-            uncertain_below: 0.3,
-            lost_below: 0.22,
+            uncertain_below: calibration::UNCERTAIN_BELOW.to_f64(),
+            lost_below: calibration::LOST_BELOW.to_f64(),
             redetect: 0,
             redetect_above: 0.3,
             redetect_colour: 0.5,

@@ -11,7 +11,8 @@ use super::params::Params;
 use super::particles::Particles;
 use super::scale::{ScaleFilter, ScaleParams};
 use crate::metrics::BBox;
-use rbtrack::tracker::Status;
+use rbtrack::fixed::Q16;
+use rbtrack::tracker::{calibration, Status};
 
 /// Smallest target side, px.
 const MIN_SIDE: f64 = 4.0;
@@ -23,8 +24,11 @@ pub struct Output {
     pub bbox: BBox,
     /// The move since the last frame, px (right, down).
     pub velocity: (f64, f64),
-    /// How sure the tracker is, `0..=1`: the merged response's peak, the translation
+    /// The tracker's score, `0..=1`: the merged response's peak, the translation
     /// filter's answer and the colour score there weighed by `merge`.
+    pub score: f64,
+    /// The score through the core's correlation-filter table
+    /// ([`rbtrack::tracker::calibration::CORRELATION`]), `0..=1`.
     pub confidence: f64,
     /// Tracking, uncertain or lost, by the confidence.
     pub status: Status,
@@ -198,7 +202,8 @@ impl Tracker {
             last: Output {
                 bbox: *init,
                 velocity: (0.0, 0.0),
-                confidence: 1.0,
+                score: 1.0,
+                confidence: calibrated(1.0),
                 status: Status::Tracking,
             },
             lost_frames: 0,
@@ -334,8 +339,8 @@ impl Tracker {
                 (self.centre.1 - found.centre.1) * zoom.1,
             );
         }
-        let peak = found.peak;
-        let confidence = peak.clamp(0.0, 1.0);
+        let score = found.peak.clamp(0.0, 1.0);
+        let confidence = calibrated(score);
         // Once lost, lost until the confidence clears `uncertain_below`.
         let status = match confidence {
             c if c < p.lost_below || (lost && c < p.uncertain_below) => Status::Lost,
@@ -373,11 +378,11 @@ impl Tracker {
             (z, i, f)
         });
         let old_size = self.size;
-        if let Some((_, _, f)) = scales.as_ref().filter(|_| confidence >= p.scale_above) {
+        if let Some((_, _, f)) = scales.as_ref().filter(|_| score >= p.scale_above) {
             self.size = (self.base.0 * *f, self.base.1 * *f);
         }
 
-        let learn = confidence >= p.learn_above;
+        let learn = score >= p.learn_above;
         if !learn {
             // Not sure enough of this frame to learn from it.
         } else if p.fresh_patch {
@@ -409,6 +414,7 @@ impl Tracker {
         self.last = Output {
             bbox,
             velocity: (self.centre.0 - previous.0, self.centre.1 - previous.1),
+            score,
             confidence,
             status,
         };
@@ -569,4 +575,12 @@ fn scale_params(params: &Params) -> ScaleParams {
         luma: params.luma_gradient,
         resample: params.resample(),
     }
+}
+
+/// The confidence of `score` by the core's correlation-filter table (the reference
+/// reports what the port reports).
+fn calibrated(score: f64) -> f64 {
+    calibration::CORRELATION
+        .confidence(Q16::from_f64(score))
+        .to_f64()
 }

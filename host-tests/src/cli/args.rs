@@ -369,6 +369,10 @@ pub struct EvalArgs {
     /// Print one JSON object instead of the table (no plots unless --out or --plots)
     #[arg(long)]
     pub json: bool,
+    /// Also fit each tracker's confidence table to the runs, pooled, and print it with
+    /// the reliability it gives (the core's tables are made so)
+    #[arg(long)]
+    pub calibrate: bool,
 }
 
 /// Options of `rbtrack port`.

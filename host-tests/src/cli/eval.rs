@@ -5,17 +5,19 @@
 
 use super::args::EvalArgs;
 use super::report::{
-    loss_table, mean_rows, plot_pair, sequence_rows, sequence_table, Curves, MeanGroup, MeanRow,
-    SequenceRow,
+    loss_table, mean_rows, plot_pair, reliability_table, sequence_rows, sequence_table, Curves,
+    MeanGroup, MeanRow, SequenceRow,
 };
 use super::runs::{self, check_init, track_frames, write_overlay, RunSpec, SequenceResult, Start};
 use super::{
     cf64_for, cf_for, check_read, config_for, config_summary, configured_seed, configured_tracker,
     create_dir, emit, fail, overrides, progress_bar, settings_json, wrote, Failure, TrackerKind,
 };
+use crate::calibrate::{fit, refit_reliability, score_at};
 use crate::camera::{Camera, VirtualCamera};
 use crate::cf64::cost::Operations;
-use crate::draw;
+use crate::draw::{self, Series};
+use crate::loss::{reliability, worst_gap, Bin, FrameCheck, BINS};
 use crate::metrics::{BBox, Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
 use crate::pixels::Format;
 use crate::run::{Bins, Shape};
@@ -288,6 +290,10 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
             emit(out, &per_start_means(shown))?;
         }
         emit(out, &loss_table(&rows, shown))?;
+        emit(out, &reliability_table(shown))?;
+    }
+    if args.calibrate {
+        emit(out, &calibration_fits(&results, &specs, &trackers))?;
     }
     if !args.json || args.plots || args.out.is_some() {
         let dir = args.out.clone().unwrap_or_else(|| PathBuf::from(PLOTS));
@@ -477,6 +483,70 @@ fn per_seed_means(groups: &[MeanGroup]) -> String {
         format!("{}: {}", m.tracker, per_seed.join(", "))
     });
     format!("\n{lines}")
+}
+
+/// Per tracker, the confidence table fitted to all its runs' frames
+/// ([`crate::calibrate::fit`]) as the core writes it, the scores where its status changes
+/// now, and the reliability by score, by confidence and with the fit.
+fn calibration_fits(
+    results: &[SequenceResult],
+    specs: &[RunSpec],
+    trackers: &[TrackerKind],
+) -> String {
+    let mut text = String::from("\nconfidence tables fitted to the runs (pooled):\n");
+    for &tracker in trackers {
+        let Some(spec) = specs.iter().find(|s| s.tracker == tracker) else {
+            continue;
+        };
+        let checks: Vec<&FrameCheck> = results
+            .iter()
+            .flat_map(|s| &s.runs)
+            .filter(|r| r.tracker() == tracker)
+            .flat_map(|r| r.checks.iter().flatten())
+            .collect();
+        let (table, lost, uncertain) = spec.status_thresholds();
+        let (lost_at, uncertain_at) = (score_at(&table, lost), score_at(&table, uncertain));
+        let line = |name: &str, bins: &[Bin; BINS]| {
+            let shares: Vec<String> = bins
+                .iter()
+                .map(|b| b.share().map_or("-".into(), |s| format!("{s:.2}")))
+                .collect();
+            format!(
+                "  {name}: {} (worst {})\n",
+                shares.join(" "),
+                worst_gap(bins, 1).map_or("-".into(), |g| format!("{g:.3}"))
+            )
+        };
+        text += &format!(
+            "{tracker}: {} frames; status changes at score {lost_at:.3} (Lost) and \
+             {uncertain_at:.3} (Uncertain)\n",
+            checks.len()
+        );
+        text += &line(
+            "by score     ",
+            &reliability(checks.iter().copied(), |f| f.score),
+        );
+        text += &line(
+            "by confidence",
+            &reliability(checks.iter().copied(), |f| f.confidence),
+        );
+        match fit(checks.iter().copied()) {
+            Some(f) => {
+                text += &line(
+                    "fitted       ",
+                    &refit_reliability(checks.iter().copied(), &f.table),
+                );
+                let knots: Vec<String> = f
+                    .thousandths
+                    .iter()
+                    .map(|(s, c)| format!("({s}, {c})"))
+                    .collect();
+                text += &format!("  table: [{}]\n", knots.join(", "));
+            }
+            None => text += "  no fit: no frames\n",
+        }
+    }
+    text
 }
 
 /// Each group's mean AUC from each start (over seeds), per tracker, and the mean over the
@@ -727,5 +797,35 @@ fn eval_plots(
     if several && !means.is_empty() {
         files.extend(plot_pair(dir, "", "mean over sequences", &means)?);
     }
+    // Every tracker's reliability, all its runs' frames pooled.
+    let shares: Vec<(TrackerKind, Vec<f64>)> = trackers
+        .iter()
+        .map(|&k| {
+            let checks = results
+                .iter()
+                .flat_map(|s| &s.runs)
+                .filter(|r| r.tracker() == k)
+                .flat_map(|r| r.checks.iter().flatten());
+            let bins = reliability(checks, |f| f.confidence);
+            (
+                k,
+                bins.iter().map(|b| b.share().unwrap_or(f64::NAN)).collect(),
+            )
+        })
+        .collect();
+    let names: Vec<String> = trackers.iter().map(|k| k.to_string()).collect();
+    let series: Vec<Series> = shares
+        .iter()
+        .zip(&names)
+        .map(|((k, values), label)| Series {
+            label,
+            values,
+            colour: k.colour(),
+        })
+        .collect();
+    let path = dir.join("reliability.png");
+    draw::reliability_plot(&path, "confidence against being on the target", &series)
+        .map_err(fail)?;
+    files.push(path);
     Ok(files)
 }

@@ -4,7 +4,7 @@
 use super::runs::{status_name, RunResult, SequenceResult, Start};
 use super::{fail, Failure, TrackerKind};
 use crate::draw::{self, Rgb, Series};
-use crate::loss::{LossReport, FLAG_WITHIN, GOOD_IOU, LOST_IOU};
+use crate::loss::{worst_gap, LossReport, BINS, FLAG_WITHIN, GOOD_IOU, LOST_IOU};
 use crate::sequence::GtOrigin;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -453,6 +453,34 @@ pub fn loss_table(rows: &[SequenceRow], means: &[MeanGroup]) -> String {
         "\nloss detection (a frame is lost at IoU < {LOST_IOU}, good at IoU >= {GOOD_IOU}; a loss \
          is {FLAG_WITHIN}+ lost frames, flagged if `Lost` within its first {FLAG_WITHIN}; a \
          failure is IoU 0 until above 0 again, recover in frames; runs pooled):\n{}",
+        render_table(&header, &table, 2)
+    )
+}
+
+/// The reliability table of each group's pooled runs: per tracker and tenth of the
+/// confidence, the share of frames on the target (IoU >= [`GOOD_IOU`]) and the frames.
+pub fn reliability_table(means: &[MeanGroup]) -> String {
+    let mut header = vec!["group".to_string(), "tracker".to_string()];
+    header
+        .extend((0..BINS).map(|i| format!("{:.1}-{:.1}", i as f64 / 10.0, (i + 1) as f64 / 10.0)));
+    header.push("worst".into());
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let mut table = Vec::new();
+    for g in means {
+        for m in &g.rows {
+            let mut row = vec![format!("all{}", g.scope), m.tracker.to_string()];
+            row.extend(m.loss.reliability.iter().map(|b| match b.share() {
+                Some(s) => format!("{s:.2} ({})", b.frames),
+                None => "-".into(),
+            }));
+            row.push(score(worst_gap(&m.loss.reliability, 1)));
+            table.push(row);
+        }
+    }
+    format!(
+        "\nreliability (per tenth of the confidence, the share of frames on the target, IoU >= \
+         {GOOD_IOU}, and the frames; worst: the largest distance of a share from its tenth's \
+         midpoint; runs pooled):\n{}",
         render_table(&header, &table, 2)
     )
 }

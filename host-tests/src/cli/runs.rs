@@ -9,7 +9,10 @@ use crate::metrics::{BBox, Evaluation};
 use crate::pixels::Frame;
 use crate::run::{self, CoreCf, Options, RunError, Shape};
 use crate::sequence::GtOrigin;
-use rbtrack::tracker::{CameraMotion, Config, ConfigError, Estimate, Status};
+use rbtrack::fixed::Q16;
+use rbtrack::tracker::{
+    calibration, Calibration, CameraMotion, Config, ConfigError, Estimate, Status,
+};
 use serde::Serialize;
 use std::path::Path;
 use std::time::Duration;
@@ -40,6 +43,28 @@ impl RunSpec {
             (None, None) => return format!("{}, {particles} particles", self.tracker),
         };
         format!("{}, {grid} x {grid} cells, {scales} scales", self.tracker)
+    }
+
+    /// The tracker's confidence table and the confidences below which its status is
+    /// `Lost` and `Uncertain`.
+    pub fn status_thresholds(&self) -> (Calibration, Q16, Q16) {
+        match (&self.cf, &self.cf64) {
+            (Some(cf), _) => (
+                calibration::CORRELATION,
+                cf.config.lost_below,
+                cf.config.uncertain_below,
+            ),
+            (None, Some(p)) => (
+                calibration::CORRELATION,
+                Q16::from_f64(p.lost_below),
+                Q16::from_f64(p.uncertain_below),
+            ),
+            (None, None) => (
+                self.config.variant.calibration(),
+                self.config.lost_below,
+                self.config.uncertain_below,
+            ),
+        }
     }
 }
 
