@@ -1,6 +1,7 @@
 //! Stage 4, estimate: where the particles put the target, how sure they are of it (the
-//! confidence: how well that window matches the colour model, less how widely the
-//! particles disagree; it sets the status), and the model's adaptation.
+//! score: how well that window matches the colour model, less how widely the particles
+//! disagree; through the variant's table the confidence, which sets the status), and the
+//! model's adaptation.
 
 use super::calibration::Calibration;
 use super::particle::Particle;

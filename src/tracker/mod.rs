@@ -1,10 +1,12 @@
 //! The three trackers, each run one frame at a time by its `step`, each giving an
-//! [`Estimate`] whose confidence sets its [`Status`]:
+//! [`Estimate`] whose confidence sets its [`Status`]. Each scores its estimate its own way
+//! and reports the score through its [`Calibration`] table, so that the confidence means
+//! the same for all three and they share the status thresholds ([`calibration`]):
 //!
 //! - [`CfTracker`], the correlation-filter tracker (Staple class; [`RgbCfTracker`] at its
 //!   defaults, the most accurate): a translation filter on per-cell luma and gradient
 //!   features and a colour model answer over a search region, their merged peak is the
-//!   new position and the confidence, and a scale filter finds the size there; while the
+//!   new position and the score, and a scale filter finds the size there; while the
 //!   target is lost it searches more regions around where it was last seen. Its parts are
 //!   in [`crate::cf`], its step in `correlation.rs`.
 //! - [`Tracker`], the colour particle filter and the Rao-Blackwellised particle filter
@@ -31,11 +33,12 @@
 //!    scales `1 + {0, -1, 1, -2, 2} scale_step` of the mean predicted ellipse, the one of
 //!    highest likelihood (same cues as the particles) gives `Y = (Hx, Hy)`; every
 //!    particle's size takes the Kalman update with the shared gain, unless that window's
-//!    Bhattacharyya coefficient is below `lost_below` (no target there: the prediction
-//!    stands).
+//!    Bhattacharyya coefficient, through the variant's confidence table, is below
+//!    `lost_below` (no target there: the prediction stands).
 //! 4. **Estimate**: weighted mean, best particle or robust mean; its window's Bhattacharyya
-//!    coefficient is the confidence, which sets the [`Status`] and, when high, blends the
-//!    window's histogram into the model.
+//!    coefficient less the spread penalty is the score, which, when high, blends the
+//!    window's histogram into the model; through the variant's table
+//!    ([`calibration`]) the score is the confidence, which sets the [`Status`].
 //! 5. **Resample** when the effective sample size is below `resample_below * N`.
 //!
 //! # A particle filter's layout
