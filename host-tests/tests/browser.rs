@@ -161,7 +161,8 @@ fn the_page_tracks_as_the_host_and_runs_the_firmware_scene() {
         let tracked = doc["frames"].as_u64().unwrap() as usize;
         assert!((FRAMES * 9 / 10..=FRAMES).contains(&tracked), "{figures}");
         let csv = std::fs::read_to_string(video_out.join("boxes.csv")).unwrap();
-        let host = std::fs::read_to_string(out.join("host_pf.csv")).unwrap();
+        // The page tracks a video with its default tracker, the correlation filter.
+        let host = std::fs::read_to_string(out.join("host_cf.csv")).unwrap();
         let (page_rows, host_rows): (Vec<&str>, Vec<&str>) =
             (csv.lines().collect(), host.lines().collect());
         assert_eq!(
