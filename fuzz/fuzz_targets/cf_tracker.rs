@@ -10,9 +10,10 @@
 //! step changes nothing; after every step or camera motion the centre lies inside the
 //! frame the tracker started on (a frame of another size is read clamped, the estimate
 //! stays in the start frame), the size keeps the first box's aspect ratio, each side is at
-//! least 4 px and at most the frame's (or the first box's, if larger), the confidence is
-//! in `[0, 1]`; a step changes the size by at most `max_scale_change`, not at all below
-//! `scale_above`, and its status is the one its confidence and the last status give
+//! least 4 px and at most the frame's (or the first box's, if larger), the score is in
+//! `[0, 1]` and the confidence its table's; a step changes the size by at most
+//! `max_scale_change`, not at all below a score of `scale_above`, and its status is the
+//! one its confidence and the last status give
 //! ([`rbtrack_fuzz::check_cf_estimate`]).
 #![no_main]
 

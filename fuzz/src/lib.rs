@@ -13,8 +13,8 @@ use rbtrack::fixed::Q16;
 use rbtrack::rect::Rect;
 use rbtrack::resample::Scheme;
 use rbtrack::tracker::{
-    max_pixels_per_step, CfConfig, Config, CueMix, Estimate, Readout, SizeMeasurement, Status,
-    Variant,
+    calibration, max_pixels_per_step, CfConfig, Config, CueMix, Estimate, Readout, SizeMeasurement,
+    Status, Variant,
 };
 use rbtrack::window::Ellipse;
 
@@ -451,8 +451,8 @@ pub fn init_is_valid(init: &Ellipse, min_half_axis: Q16, width: usize, height: u
 
 /// Checks the documented guarantees of a step's result in a `width x height` frame:
 /// centre inside the frame, half-axes positive and at most the frame's longer side (or
-/// `min_half_axis` if that is larger), confidence in `[0, 1]`, and at most
-/// `max_pixels_per_step(n, pixels_per_window)` pixels read.
+/// `min_half_axis` if that is larger), score in `[0, 1]` and the confidence the variant's
+/// table gives it, and at most `max_pixels_per_step(n, pixels_per_window)` pixels read.
 pub fn check_estimate(
     e: &Estimate,
     config: &Config,
@@ -481,7 +481,16 @@ pub fn check_estimate(
             "half-axis {h:?} in {width}x{height}"
         );
     }
-    assert!(e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE);
+    assert!(
+        e.score >= Q16::ZERO && e.score <= Q16::ONE,
+        "score {:?}",
+        e.score
+    );
+    assert_eq!(
+        e.confidence,
+        config.variant.calibration().confidence(e.score),
+        "{e:?}"
+    );
     let bound = max_pixels_per_step(n, config.pixels_per_window);
     assert!(
         pixels_visited as u64 <= bound,
@@ -656,10 +665,11 @@ pub struct CfStart {
 /// Checks the documented guarantees of a correlation-filter step (or camera motion) when
 /// the tracker started as `start` says: centre inside that frame; the first box's aspect
 /// ratio; each side at least 4 px and at most the frame's side or the first box's, if
-/// larger; confidence in `[0, 1]`; and, for a step after the estimate `previous`, a size at
-/// most `max_scale_change` from its size, the same size when the confidence is below
-/// `scale_above`, and the status the confidence and `config`'s thresholds give (`Lost`
-/// below `lost_below`, and after `Lost` below `uncertain_below`).
+/// larger; score in `[0, 1]` and the confidence the tracker's table gives it; and, for a
+/// step after the estimate `previous`, a size at most `max_scale_change` from its size,
+/// the same size when the score is below `scale_above`, and the status the confidence and
+/// `config`'s thresholds give (`Lost` below `lost_below`, and after `Lost` below
+/// `uncertain_below`).
 pub fn check_cf_estimate(
     e: &Estimate,
     config: &CfConfig,
@@ -703,15 +713,20 @@ pub fn check_cf_estimate(
         );
     }
     assert!(
-        e.confidence >= Q16::ZERO && e.confidence <= Q16::ONE,
-        "confidence {:?}",
-        e.confidence
+        e.score >= Q16::ZERO && e.score <= Q16::ONE,
+        "score {:?}",
+        e.score
+    );
+    assert_eq!(
+        e.confidence,
+        calibration::CORRELATION.confidence(e.score),
+        "{e:?}"
     );
     if let Some(previous) = previous {
         let before = bits(previous.ellipse.hx);
-        if e.confidence < config.scale_above {
-            assert_eq!(el.hx, previous.ellipse.hx, "confidence {:?}", e.confidence);
-            assert_eq!(el.hy, previous.ellipse.hy, "confidence {:?}", e.confidence);
+        if e.score < config.scale_above {
+            assert_eq!(el.hx, previous.ellipse.hx, "score {:?}", e.score);
+            assert_eq!(el.hy, previous.ellipse.hy, "score {:?}", e.score);
         }
         // hx <= m before and before <= m hx, m in Q16.16. The size is the first box's
         // times a Q16.16 factor floored twice a step (the clamp to 1 / m and the product),
