@@ -13,8 +13,8 @@ use rbtrack::fixed::Q16;
 use rbtrack::rect::Rect;
 use rbtrack::resample::Scheme;
 use rbtrack::tracker::{
-    calibration, max_pixels_per_step, CfConfig, Config, CueMix, Estimate, Readout, SizeMeasurement,
-    Status, Variant,
+    calibration, max_pixels_per_step, Calibration, CfConfig, Config, CueMix, Estimate, Readout,
+    SizeMeasurement, Status, Variant,
 };
 use rbtrack::window::Ellipse;
 
@@ -449,6 +449,17 @@ pub fn init_is_valid(init: &Ellipse, min_half_axis: Q16, width: usize, height: u
         && inside(init.cy, height)
 }
 
+/// Checks an estimate's score is in `[0, 1]` and its confidence is the score through
+/// `table`.
+fn check_confidence(e: &Estimate, table: &Calibration) {
+    assert!(
+        e.score >= Q16::ZERO && e.score <= Q16::ONE,
+        "score {:?}",
+        e.score
+    );
+    assert_eq!(e.confidence, table.confidence(e.score), "{e:?}");
+}
+
 /// Checks the documented guarantees of a step's result in a `width x height` frame:
 /// centre inside the frame, half-axes positive and at most the frame's longer side (or
 /// `min_half_axis` if that is larger), score in `[0, 1]` and the confidence the variant's
@@ -481,16 +492,7 @@ pub fn check_estimate(
             "half-axis {h:?} in {width}x{height}"
         );
     }
-    assert!(
-        e.score >= Q16::ZERO && e.score <= Q16::ONE,
-        "score {:?}",
-        e.score
-    );
-    assert_eq!(
-        e.confidence,
-        config.variant.calibration().confidence(e.score),
-        "{e:?}"
-    );
+    check_confidence(e, config.variant.calibration());
     let bound = max_pixels_per_step(n, config.pixels_per_window);
     assert!(
         pixels_visited as u64 <= bound,
@@ -712,16 +714,7 @@ pub fn check_cf_estimate(
             start.size
         );
     }
-    assert!(
-        e.score >= Q16::ZERO && e.score <= Q16::ONE,
-        "score {:?}",
-        e.score
-    );
-    assert_eq!(
-        e.confidence,
-        calibration::CORRELATION.confidence(e.score),
-        "{e:?}"
-    );
+    check_confidence(e, &calibration::CORRELATION);
     if let Some(previous) = previous {
         let before = bits(previous.ellipse.hx);
         if e.score < config.scale_above {

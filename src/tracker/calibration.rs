@@ -158,21 +158,23 @@ mod tests {
         Q16::from_f64(v)
     }
 
+    /// A rising table, knots as thousandths.
+    const EXAMPLE: [(u16, u16); KNOTS] = [
+        (0, 0),
+        (100, 50),
+        (200, 100),
+        (300, 300),
+        (500, 500),
+        (700, 800),
+        (800, 850),
+        (850, 870),
+        (900, 900),
+        (1000, 950),
+    ];
+
     #[test]
     fn interpolates_between_knots_and_clamps_outside() {
-        let c = Calibration::from_thousandths([
-            (0, 0),
-            (100, 50),
-            (200, 100),
-            (300, 300),
-            (500, 500),
-            (700, 800),
-            (800, 850),
-            (850, 870),
-            (900, 900),
-            (1000, 950),
-        ])
-        .unwrap();
+        let c = Calibration::from_thousandths(EXAMPLE).unwrap();
         let at = |s: f64| c.confidence(q(s)).to_f64();
         assert!((at(0.05) - 0.025).abs() < 1e-4);
         assert!((at(0.25) - 0.2).abs() < 1e-4);
@@ -225,18 +227,7 @@ mod tests {
 
     #[test]
     fn refuses_tables_that_do_not_rise_from_0_to_1() {
-        let good = [
-            (0, 0),
-            (100, 50),
-            (200, 100),
-            (300, 300),
-            (500, 500),
-            (700, 800),
-            (800, 850),
-            (850, 870),
-            (900, 900),
-            (1000, 950),
-        ];
+        let good = EXAMPLE;
         assert!(Calibration::from_thousandths(good).is_some());
         let mut flat = good;
         flat[2].0 = 100;

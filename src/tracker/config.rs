@@ -21,10 +21,10 @@ pub enum Variant {
 
 impl Variant {
     /// The variant's confidence table ([`crate::tracker::calibration`]).
-    pub const fn calibration(self) -> Calibration {
+    pub const fn calibration(self) -> &'static Calibration {
         match self {
-            Self::ColourPf => calibration::COLOUR_PF,
-            Self::Rbpf => calibration::RBPF,
+            Self::ColourPf => &calibration::COLOUR_PF,
+            Self::Rbpf => &calibration::RBPF,
         }
     }
 }

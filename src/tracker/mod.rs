@@ -385,7 +385,7 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
         state.particles = [Particle::at(&init); N];
         state.weights = [WEIGHT_TOTAL / N as u32; N];
         state.size_cov = size_cov;
-        state.estimate = Estimate::first(init, &calibration);
+        state.estimate = Estimate::first(init, calibration);
         state.last_confident = init;
         state.motion_spread = None;
         self.scratch.memo.start_frame();

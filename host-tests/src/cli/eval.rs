@@ -297,7 +297,14 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
     }
     if !args.json || args.plots || args.out.is_some() {
         let dir = args.out.clone().unwrap_or_else(|| PathBuf::from(PLOTS));
-        for f in eval_plots(&dir, &results, &specs, &trackers, args.config.particles)? {
+        for f in eval_plots(
+            &dir,
+            &results,
+            pooled,
+            &specs,
+            &trackers,
+            args.config.particles,
+        )? {
             written.push(f.display().to_string());
         }
     }
@@ -741,10 +748,12 @@ fn curves(s: &SequenceResult, tracker: TrackerKind) -> Option<(Vec<f64>, Vec<f64
 /// mean in the tracker's colour (`success.png`, `precision.png` for one tracker;
 /// `success_rbpf.png`, ... for several, plus `success.png`, `precision.png` comparing the
 /// trackers' mean curves, each in its colour). Titles and legends name each tracker's
-/// configuration ([`RunSpec::label`]). Returns the files written.
+/// configuration ([`RunSpec::label`]). And `reliability.png`: each tracker's reliability
+/// diagram over every run (`pooled`'s rows). Returns the files written.
 fn eval_plots(
     dir: &Path,
     results: &[SequenceResult],
+    pooled: &[MeanRow],
     specs: &[RunSpec],
     trackers: &[TrackerKind],
     particles: usize,
@@ -797,27 +806,18 @@ fn eval_plots(
     if several && !means.is_empty() {
         files.extend(plot_pair(dir, "", "mean over sequences", &means)?);
     }
-    // Every tracker's reliability, all its runs' frames pooled.
-    let shares: Vec<(TrackerKind, Vec<f64>)> = trackers
+    // Every tracker's reliability, all its runs' frames pooled (the pooled rows' tables).
+    let shares: Vec<(TrackerKind, String, Vec<f64>)> = pooled
         .iter()
-        .map(|&k| {
-            let checks = results
-                .iter()
-                .flat_map(|s| &s.runs)
-                .filter(|r| r.tracker() == k)
-                .flat_map(|r| r.checks.iter().flatten());
-            let bins = reliability(checks, |f| f.confidence);
-            (
-                k,
-                bins.iter().map(|b| b.share().unwrap_or(f64::NAN)).collect(),
-            )
+        .map(|m| {
+            let bins = m.loss.reliability.iter();
+            let shares = bins.map(|b| b.share().unwrap_or(f64::NAN));
+            (m.tracker, m.tracker.to_string(), shares.collect())
         })
         .collect();
-    let names: Vec<String> = trackers.iter().map(|k| k.to_string()).collect();
     let series: Vec<Series> = shares
         .iter()
-        .zip(&names)
-        .map(|((k, values), label)| Series {
+        .map(|(k, label, values)| Series {
             label,
             values,
             colour: k.colour(),

@@ -60,7 +60,7 @@ impl RunSpec {
                 Q16::from_f64(p.uncertain_below),
             ),
             (None, None) => (
-                self.config.variant.calibration(),
+                *self.config.variant.calibration(),
                 self.config.lost_below,
                 self.config.uncertain_below,
             ),
