@@ -43,13 +43,16 @@
 //!
 //! Working memory, on the stack, for a patch of at most 256 px a side: the columns' source
 //! pixels and weights (`256 x 8` bytes) and the luma of two frame rows at them
-//! (`2 x 256 x 2` u8), three patch rows (`3 x 256` u16: the row below is sampled before the
-//! gradients of a row are taken), the histograms of two cell rows (`2 x 34 x 9` u32: a
-//! pixel row reaches only the cell rows on either side of it, and a padding cell at either
-//! end), three rows of root energies (`3 x 32` u32: a cell row's normalisers need the rows
-//! above and below) and one row of block normalisers (`33` u64, each computed once), 7,720
-//! bytes; the luma sums of a cell row are kept in `out` until it is complete. On the
-//! Cortex-M4 (thumbv7em, opt-level `s`) `extract`'s frame is 8,616 bytes.
+//! (`2 x 256 x 2` u8), three patch rows (`3 x 258` u16: the row below is sampled before the
+//! gradients of a row are taken; each row's edge pixels are repeated at either end, so
+//! that one loop without bounds checks takes every difference), each column's two cells
+//! and weights across (`256` u16, found once a patch), the histograms of two cell rows
+//! (`2 x 34 x 9` u32: a pixel row reaches only the cell rows on either side of it, and a
+//! padding cell at either end), three rows of root energies (`3 x 32` u32: a cell row's
+//! normalisers need the rows above and below) and one row of block normalisers (`33` u64,
+//! each computed once), 8,244 bytes; the luma sums of a cell row are kept in `out` until it
+//! is complete. On the Cortex-M4 (thumbv7em, opt-level `s`) `extract`'s frame is 9,016
+//! bytes.
 
 use crate::fixed::{div_u64_u32, sqrt_u64_q8, Q16};
 use crate::image::{ImageView, PixelFormat};
@@ -130,14 +133,15 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
     let xs = Axis::new(sampling.cx, sampling.width, w);
     let mut ys = Axis::new(sampling.cy, sampling.height, h);
 
-    let mut patch = [[0u16; MAX_PX]; 3];
+    let mut patch = [[0u16; MAX_PX + 2]; 3];
     let mut source = SourceRows::new(frame, xs, w);
     let mut hist = NO_HIST;
     let mut energy = [[0u32; MAX_CELLS]; 3];
     let mut blocks = [0u64; MAX_CELLS + 1];
+    let across = grid.across(w);
 
     if let Some(ty) = ys.next() {
-        source.sample(frame, ty, &mut patch[0][..w]);
+        source.sample_padded(frame, ty, &mut patch[0], w);
     }
     let mut sy = Split::first(cell);
     let (mut luma_row, mut luma_lines) = (0, 0);
@@ -146,11 +150,11 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
         // of `p` are taken, over the row above.
         if p + 1 < h {
             if let Some(ty) = ys.next() {
-                source.sample(frame, ty, &mut patch[(p + 1) % 3][..w]);
+                source.sample_padded(frame, ty, &mut patch[(p + 1) % 3], w);
             }
         }
         let around = [p.saturating_sub(1), p, (p + 1).min(h - 1)]
-            .map(|i| patch[i % 3].get(..w).unwrap_or_default());
+            .map(|i| patch[i % 3].get(..w + 2).unwrap_or_default());
         // A one-sided difference at the patch's edge counts twice.
         let scale_y = match (p, h) {
             (_, 1) => 0,
@@ -163,11 +167,14 @@ pub fn extract<P: PixelFormat>(frame: &ImageView<'_, P>, sampling: &Sampling, ou
         let bands = sy
             .cells()
             .map(|(cy, wy)| if cy < rows { (cy % 2, wy) } else { (0, 0) });
-        grid.add_gradients(around, scale_y, bands, &mut hist);
-        // The luma sums of the cell row's cells, kept in `out` until it is complete.
+        grid.add_gradients(around, &across, scale_y, bands, &mut hist);
+        // The luma sums of the cell row's cells, kept in `out` until it is complete (`cell`
+        // is at least 1: `max` restates it where the optimiser no longer sees the clamp, so
+        // that `chunks_exact` links no panic path).
+        let row = around[1].get(1..=w).unwrap_or_default();
         for (c, px) in out_row(out, luma_row, cols)
             .iter_mut()
-            .zip(around[1].chunks_exact(cell))
+            .zip(row.chunks_exact(cell.max(1)))
         {
             let sum = px.iter().map(|&v| u32::from(v)).sum();
             add_luma(c, sum, luma_lines == 0);
@@ -321,6 +328,26 @@ impl SourceRows {
         }
     }
 
+    /// [`Self::sample`] of `w` columns into `row[1..=w]`, the edge pixels repeated into
+    /// `row[0]` and `row[w + 1]`.
+    fn sample_padded<P: PixelFormat>(
+        &mut self,
+        frame: &ImageView<'_, P>,
+        ty: Taps,
+        row: &mut [u16; MAX_PX + 2],
+        w: usize,
+    ) {
+        if let Some(inner) = row.get_mut(1..=w) {
+            self.sample(frame, ty, inner);
+        }
+        if let (Some(&first), Some(&last)) = (row.get(1), row.get(w)) {
+            row[0] = first;
+            if let Some(pad) = row.get_mut(w + 1) {
+                *pad = last;
+            }
+        }
+    }
+
     /// The slot holding frame row `y` at the first `w` columns, read into the slot that
     /// does not hold row `keep` if no slot holds `y`.
     fn load<P: PixelFormat>(
@@ -353,8 +380,9 @@ impl SourceRows {
 #[inline(always)]
 fn magnitude(gx: i32, gy: i32) -> u32 {
     let (gx, gy) = (i64::from(gx), i64::from(gy));
-    let n = (gx * gx + gy * gy) as u64; // < 2^36
-    ((sqrt_u64_q8(n) + 8) >> 4) as u32
+    // Below 2^36, so that the root is below 2^26 and the rounding fits 32 bits.
+    let n = (gx * gx + gy * gy) as u64;
+    (sqrt_u64_q8(n) as u32 + 8) >> 4
 }
 
 /// The unsigned orientation bin (`0..9`) of a gradient: the nearest of 9 directions
@@ -452,6 +480,14 @@ struct Grid {
     eps: u64,
 }
 
+/// Packs a patch column's cells across: the offset of its left cell's bins in a band
+/// (`c BINS <= 297`, cell `c - 1` at `c`), bits 0-8, the left cell's weight `w0` (in
+/// `1 / (2 cell)`, at most 16), bits 9-13 (the right cell's is `2 cell - w0`), and bit 14
+/// set at the patch's first and last column, where the difference is one-sided.
+fn pack_across(c: usize, w0: u32, edge: bool) -> u16 {
+    (c * BINS) as u16 | (w0 as u16) << 9 | u16::from(edge) << 14
+}
+
 impl Grid {
     fn new(cols: usize, rows: usize, cell: usize) -> Self {
         let shift = 2 * (usize::BITS - (cell - 1).leading_zeros()) + 1;
@@ -467,47 +503,69 @@ impl Grid {
         }
     }
 
+    /// Each of the first `w` patch columns' cells across ([`pack_across`]).
+    fn across(&self, w: usize) -> [u16; MAX_PX] {
+        let mut across = [0; MAX_PX];
+        let mut sx = Split::first(self.cell);
+        for (x, a) in across.iter_mut().enumerate().take(w) {
+            let [(_, w0), (c, _)] = sx.cells();
+            *a = pack_across(c, w0, x == 0 || x + 1 == w);
+            sx.advance();
+        }
+        across
+    }
+
     /// Spreads the gradients of patch row `around[1]` (luma, Q8, between the rows above and
-    /// below it, `around[0]` and `around[2]`; vertical differences times `scale_y`) over
-    /// the histograms of the cell rows `bands` (band, weight) reaches.
+    /// below it, `around[0]` and `around[2]`, each padded by a pixel at either end;
+    /// vertical differences times `scale_y`) over the histograms of the cell rows `bands`
+    /// (band, weight) reaches, column `x` over the cells `across[x]`.
+    ///
+    /// The pixels are read through `windows(3)`, with no bounds check; a band of weight 0
+    /// (a cell row outside the grid) gains `share(m, 0) = 0`, so the two bands' weights
+    /// are summed per band and both histograms take every pixel.
     fn add_gradients(
         &self,
         around: [&[u16]; 3],
+        across: &[u16; MAX_PX],
         scale_y: i32,
         bands: [(usize, u32); 2],
         hist: &mut [HistRow; 2],
     ) {
         let [above, cur, below] = around;
-        let w = cur.len();
-        let at = |row: &[u16], i: usize| i32::from(row.get(i).copied().unwrap_or(0));
-        let mut sx = Split::first(self.cell);
-        for x in 0..w {
-            // Central differences, one-sided (counted twice) at the edges.
-            let gx = match x {
-                _ if w == 1 => 0,
-                0 => 2 * (at(cur, 1) - at(cur, 0)),
-                _ if x + 1 == w => 2 * (at(cur, x) - at(cur, x - 1)),
-                _ => at(cur, x + 1) - at(cur, x - 1),
-            };
-            let gy = scale_y * (at(below, x) - at(above, x));
+        let mut wy = [0u32; 2];
+        for (band, w) in bands {
+            wy[band & 1] += w;
+        }
+        let [wy0, wy1] = wy;
+        let [band0, band1] = hist;
+        let (band0, band1) = (band0.as_flattened_mut(), band1.as_flattened_mut());
+        let span = 2 * self.cell as u32;
+        // Central differences of the padded rows (their edge pixels repeated): one-sided at
+        // the edges, where `across` doubles them.
+        let pixels = cur
+            .windows(3)
+            .zip(below.get(1..).unwrap_or_default())
+            .zip(above.get(1..).unwrap_or_default())
+            .zip(across);
+        for (((win, &below), &above), &across) in pixels {
+            let gx = (i32::from(win[2]) - i32::from(win[0])) << ((across >> 14) & 1);
+            let gy = scale_y * (i32::from(below) - i32::from(above));
             let m = magnitude(gx, gy);
-            if m > 0 {
-                let bin = unsigned_bin(gx, gy);
-                // Cells `c - 1` and `c`, at `c` and `c + 1` of a band (cells -1 and `cols`
-                // are the padding at either end): their bins `bin` lie `BINS` apart.
-                let [(_, w0), (c, w1)] = sx.cells();
-                let at = c * BINS + bin;
-                let mut spread = |(band, wy): (usize, u32)| {
-                    let bins = hist.get_mut(band).map(|h| h.as_flattened_mut());
-                    if let Some([left, .., right]) = bins.and_then(|b| b.get_mut(at..=at + BINS)) {
-                        *left += self.share(m, w0 * wy);
-                        *right += self.share(m, w1 * wy);
-                    }
-                };
-                spread(bands[0]);
-                spread(bands[1]);
+            if m == 0 {
+                continue;
             }
-            sx.advance();
+            let at = usize::from(across & 0x1FF) + unsigned_bin(gx, gy);
+            let w0 = u32::from((across >> 9) & 0x1F);
+            let w1 = span - w0;
+            // The left cell's bin and the right one's, `BINS` apart, in either band.
+            if let Some([left, .., right]) = band0.get_mut(at..=at + BINS) {
+                *left += self.share(m, w0 * wy0);
+                *right += self.share(m, w1 * wy0);
+            }
+            if let Some([left, .., right]) = band1.get_mut(at..=at + BINS) {
+                *left += self.share(m, w0 * wy1);
+                *right += self.share(m, w1 * wy1);
+            }
         }
     }
 
