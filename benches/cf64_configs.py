@@ -18,7 +18,9 @@ row's settings, the same with `--tracker cf`. Both trackers are deterministic. C
 - ROC, flagged, good as Lost: cf64's loss table over all runs pooled (the confidence's ROC
   AUC for frames with IoU < 0.1; losses of 5+ frames flagged `Lost` within 5; frames of
   IoU >= 0.5 flagged `Lost`);
-- instructions: `cf64::cost`'s estimate of a frame on a Cortex-M4;
+- instructions: `cf64::cost`'s estimate of a frame on a Cortex-M4, on the budget example's
+  scene (`rbtrack cost --preset core --set ...`: the model fitted to that example's QEMU
+  counts, recomputed for every row also with --from-json);
 - first folder alone / pooled: against the first row, whether the first folder's (the
   dev set's) 7-start mean and the pooled one would take the row's change (+), leave it
   (-) or not tell (=, within 0.01, the spread of a pooled 7-start mean under a 1e-6
@@ -116,8 +118,18 @@ def run(binary, data, zero_based, tracker, settings):
         "roc": loss["roc_auc"],
         "flagged": loss["flagged_share"],
         "good_lost": loss["good_flagged_share"],
-        "instructions": (doc.get("cf64_cost") or {}).get("instructions"),
     }
+
+
+def cost(binary, settings):
+    """The cost model's instructions a frame for a row's settings."""
+    cmd = [str(binary), "cost", "--preset", "core", "--json"]
+    for s in settings:
+        cmd += ["--set", f"cf.{s}"]
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"cf64_configs.py: {' '.join(cmd)}: {out.stderr.strip()}")
+    return json.loads(out.stdout)["instructions"]
 
 
 def main():
@@ -131,11 +143,13 @@ def main():
     parser.add_argument("--json", help="also write the figures to this file (after each row)")
     parser.add_argument("--from-json", help="print the table of a file --json wrote, running nothing")
     args = parser.parse_args()
+    binary = find_rbtrack(args.rbtrack)
     if args.from_json:
         doc = json.loads(Path(args.from_json).read_text())
+        for r in doc["rows"]:
+            r["instructions"] = cost(binary, r["settings"])
         print(table(doc["data"], doc["rows"]))
         return
-    binary = find_rbtrack(args.rbtrack)
     rows = ROWS
     if args.rows:
         wanted = [r.strip() for r in args.rows.split(",")]
@@ -145,6 +159,7 @@ def main():
         r = {"group": group, "name": name, "settings": settings}
         for tracker in ("cf64", "cf"):
             r[tracker] = run(binary, args.data, args.zero_based_sequences, tracker, settings)
+        r["instructions"] = cost(binary, settings)
         results.append(r)
         print(f"{name}: done", file=sys.stderr, flush=True)
         if args.json:
@@ -180,7 +195,7 @@ def row(r, base, folders):
     verdict = "-"
     if base is not None and r["settings"]:
         verdict = f"{says(c['sets'][0] - base['sets'][0])} / {says(c['pooled'] - base['pooled'])}"
-    instructions = "-" if c["instructions"] is None else f"{c['instructions'] / 1e6:.2f} M"
+    instructions = f"{r['instructions'] / 1e6:.2f} M"
     return (f"| {r['group']} | {r['name']} | {' '.join(r['settings']) or '-'} | {fig(c)} | "
             f"{fig(r['cf'])} | {c['box']:.3f} | {c['roc'] or 0:.3f} | {pct(c['flagged'], 0)} | "
             f"{pct(c['good_lost'], 2)} | {instructions} | {verdict} |")

@@ -19,6 +19,7 @@ fn main() -> ExitCode {
         args::Command::Track(a) => ("track", cli::track(a, &mut out).map(|()| true)),
         args::Command::Eval(a) => ("eval", cli::eval(a, &mut out)),
         args::Command::Port(a) => ("port", cli::port(a, &mut out)),
+        args::Command::Cost(a) => ("cost", cli::cost(a, &mut out)),
         args::Command::Follow(a) => ("follow", cli::follow(a, &mut out).map(|()| true)),
         args::Command::Frames(a) => ("frames", cli::frames(a, &mut out).map(|()| true)),
         args::Command::Paper(a) => ("paper", cli::paper(a, &mut out).map(|()| true)),

@@ -1751,3 +1751,103 @@ fn cf64_tracker_in_track_and_eval() {
         "cf.no_such",
     );
 }
+
+/// The budget example's correlation-filter tables, each stage `factor[i]` times the cost
+/// model's estimate: its configurations, and the defaults against the target's size.
+fn budget_output(factor: [f64; 5]) -> String {
+    use rbtrack::cf::scale::ScaleSettings;
+    use rbtrack::tracker::CfConfig;
+    use rbtrack_host::cf64::cost::{Operations, Target};
+    use rbtrack_host::cf64::Params;
+    let mut text = String::from(
+        "correlation-filter tracker, instructions per frame by stage (mean), total (mean, max):\n \
+         G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect\n",
+    );
+    let configurations = [
+        (16, 8, 4, 512, 2),
+        (16, 8, 2, 512, 2),
+        (16, 4, 4, 256, 2),
+        (8, 8, 8, 512, 2),
+        (8, 4, 4, 256, 2),
+        (8, 4, 4, 128, 0),
+        (8, 4, 4, 96, 0),
+    ];
+    let estimate = |params: &Params, target: Target| -> Vec<u64> {
+        let stages = Operations::of(params, target).stages();
+        stages
+            .iter()
+            .zip(factor)
+            .map(|(e, f)| (e * f).round() as u64)
+            .collect()
+    };
+    for (g, s, cell, area, ring) in configurations {
+        let defaults = CfConfig::default();
+        let config = CfConfig {
+            cell,
+            redetect: ring,
+            scale: ScaleSettings {
+                area,
+                ..defaults.scale
+            },
+            ..defaults
+        };
+        let stages = estimate(&Params::of_core(&config, g, s), Target::scene(1.0));
+        let total: u64 = stages.iter().sum();
+        let list: Vec<String> = stages.iter().map(u64::to_string).collect();
+        text += &format!(
+            "{g} {s} {cell} {area} {ring} 70616 {} {total} {total} 0 0\n",
+            list.join(" ")
+        );
+    }
+    text +=
+        "\ncorrelation-filter tracker against target size, defaults (mean target height, px):\n";
+    text += "height  features    scale     total       max\n";
+    let defaults = Params::of_core(&CfConfig::default(), 16, 8);
+    for height in [19, 40, 81, 122] {
+        let stages = estimate(&defaults, Target::scene(f64::from(height) / 54.0));
+        let total: u64 = stages.iter().sum();
+        text += &format!("{height} {} {} {total} {total}\n", stages[0], stages[3]);
+    }
+    text + "\n"
+}
+
+#[test]
+fn cost_checks_the_model_against_the_budget_example() {
+    let dir = temp_dir("cost");
+    let file = dir.join("budget.txt");
+    std::fs::write(&file, budget_output([1.0; 5])).unwrap();
+    let o = rbtrack(&["cost", path(&file)]);
+    assert!(o.status.success(), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("largest error 0.0 % (within"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(stdout(&o).contains("G 8 S 4 cell 4 area 128 ring 0"));
+
+    // The scale stage 20 % off the model: beyond 10 %, exit 1.
+    std::fs::write(&file, budget_output([1.0, 1.0, 1.0, 1.2, 1.0])).unwrap();
+    let o = rbtrack(&["cost", path(&file)]);
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("beyond the 10 % allowed"),
+        "{}",
+        stdout(&o)
+    );
+
+    // Fitted to rows the model made, the costs are the model's own.
+    std::fs::write(&file, budget_output([1.0; 5])).unwrap();
+    let o = rbtrack(&["cost", path(&file), "--fit"]);
+    assert!(
+        stdout(&o).contains("filter: [39.7, 50.0]"),
+        "{}",
+        stdout(&o)
+    );
+
+    std::fs::write(&file, "no rows here\n").unwrap();
+    assert_one_line_error(
+        &rbtrack(&["cost", path(&file)]),
+        "no rows",
+        "no correlation-filter rows",
+    );
+}

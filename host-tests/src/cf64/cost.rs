@@ -1,96 +1,200 @@
-//! What a configuration costs a frame: the operations the tracker does, counted from its
-//! settings, and the Cortex-M4 instructions they come to at the per-operation costs of
-//! the integer design (docs/design.md, "A shape template"): an estimate to choose the
-//! microcontroller's configuration by, before the integer tracker measures itself in QEMU.
+//! What a configuration of the integer correlation-filter tracker costs a frame on a
+//! Cortex-M4: the operations each stage of `CfTracker::step_profiled` does, counted from
+//! the configuration and the target, times per-operation instruction costs fitted to the
+//! QEMU counts of `examples/budget.rs` (`rbtrack cost BUDGET_OUTPUT --fit` fits them,
+//! `rbtrack cost BUDGET_OUTPUT` checks every row against them).
 //!
-//! Counted for a frame while tracking (no re-detection), for a target of the scale
-//! filter's full sample area:
-//! - resampled and featurised px: the search patch (twice with `fresh_patch`) and the
-//!   scale samples (twice with `fresh_patch`);
-//! - cells normalised: the search grid's and the scale samples';
-//! - butterflies: the 2-D transforms of the channels (two real channels in one complex
-//!   transform), once for detection and again with `fresh_patch`, and one inverse; the
-//!   scale filter's transforms over the scales (`S/2 log2 S` butterflies for a power of two,
-//!   else a direct transform of `S^2` complex products counted as MACs);
-//! - complex multiply-accumulates: the response (one per cell and channel), the learning
-//!   (numerator and denominator, two per cell and channel), and the scale filter's alike;
-//! - colour px: the likelihood lookup, the integral image and the histograms' learning
-//!   over the patch.
+//! Counted for a frame while tracking (no re-detection). The operations:
+//! - features: the search patch's px (`(G cell)^2`), its cells times their fHOG channels
+//!   (normalised one by one), the frame pixels read for it (2 a patch column for each
+//!   frame row the patch touches: every row of the region, at most 2 a patch row) and a
+//!   constant;
+//! - filter: the butterflies of the 2-D transforms (the channels in complex pairs and one
+//!   inverse, `G^2 log2 G` each) and the cells times the channels (the response's
+//!   products);
+//! - colour: the colour map's px (`(G cell / colour_step)^2`) and a constant;
+//! - scale: per sample, its px (the scale model's, fixed by the first box; its features'
+//!   transforms and products go with them, as the core's samples have 9 channels a cell)
+//!   and a constant; the frame pixels the samples read;
+//! - learning: the cells times the channels (the filter's numerator and denominator), the
+//!   scale filter's feature pairs times the scales, and a constant.
 
 use super::params::Params;
+use super::scale::model_size;
+use super::tracker::scale_params;
 use serde::Serialize;
 
-/// Instructions a pixel to resample (read, weigh, sum the source pixels).
-pub const RESAMPLE_PER_PX: u64 = 10;
-/// Instructions a pixel for its gradient, orientation bin and cell vote.
-pub const FEATURE_PER_PX: u64 = 15;
-/// Instructions a cell and channel to normalise (four block norms, clip, sum).
-pub const NORMALISE_PER_CELL_CHANNEL: u64 = 12;
-/// Instructions a radix-2 butterfly (Q15, with its scaling).
-pub const PER_BUTTERFLY: u64 = 12;
-/// Instructions a complex multiply-accumulate.
-pub const PER_MAC: u64 = 6;
-/// Instructions a pixel for the colour work (bin, look up, add).
-pub const COLOUR_PER_PX: u64 = 11;
+/// The stages of a frame, as `CfStageCycles` counts them.
+pub const STAGES: [&str; 5] = ["features", "filter", "colour", "scale", "learn"];
+
+/// Instructions an operation, per stage, in the order of [`Operations::terms`]' terms:
+/// least squares on the relative error over the rows of `examples/budget.rs` in QEMU
+/// (`rbtrack cost BUDGET_OUTPUT --fit`).
+pub const PER_OPERATION: [&[f64]; 5] = [
+    &[144.6, 126.6, 16.2, 29_958.7],
+    &[39.7, 50.0],
+    &[91.1, 8_160.6],
+    &[271.2, 22.2, 18_357.6],
+    &[81.8, 139.2, 45_182.8],
+];
+
+/// The target the cost depends on: its first box, px (width, height), which fixes the
+/// scale model, and its size on the frames costed, px, which sets the frame rows read.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Target {
+    /// The first box, px (width, height).
+    pub first: (f64, f64),
+    /// The size on the frames costed, px (width, height).
+    pub current: (f64, f64),
+}
+
+impl Target {
+    /// The budget example's scene (`rbtrack_firmware::scene`) with its target scaled by
+    /// `scale`: a first box of 11.375 x 26 px, 23.625 x 54 px on the mean frame.
+    pub fn scene(scale: f64) -> Self {
+        Self {
+            first: (11.375 * scale, 26.0 * scale),
+            current: (23.625 * scale, 54.0 * scale),
+        }
+    }
+}
 
 /// Operations of one frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Operations {
-    /// Pixels resampled and featurised.
-    pub pixels: u64,
-    /// Cell-channels normalised.
-    pub cell_channels: u64,
-    /// FFT butterflies.
-    pub butterflies: u64,
-    /// Complex multiply-accumulates.
-    pub macs: u64,
-    /// Pixels of colour work.
-    pub colour_pixels: u64,
+    /// Search patch px.
+    pub patch_px: f64,
+    /// Search grid cells.
+    pub cells: f64,
+    /// Channels of a cell: fHOG and grey.
+    pub channels: f64,
+    /// fHOG channels of a cell.
+    pub hog_channels: f64,
+    /// Frame pixels read for the search patch.
+    pub patch_reads: f64,
+    /// Butterflies of the translation filter's 2-D transforms.
+    pub butterflies: f64,
+    /// Colour map px.
+    pub colour_px: f64,
+    /// Scale samples.
+    pub samples: f64,
+    /// Px of one scale sample.
+    pub sample_px: f64,
+    /// Frame pixels read for the scale samples, all of them.
+    pub sample_reads: f64,
+    /// Feature pairs of a scale sample.
+    pub pairs: f64,
+}
+
+/// Frame pixels read to resample a region `region` px tall into `cols x rows` patch px:
+/// 2 a patch column for each frame row touched (each read once for all the patch rows
+/// beside it), at most 2 a patch row.
+fn reads(region: f64, cols: f64, rows: f64) -> f64 {
+    2.0 * cols * (region.ceil() + 1.0).min(2.0 * rows)
 }
 
 impl Operations {
-    /// The operations of `params`' configuration.
-    pub fn of(params: &Params) -> Self {
-        let passes = if params.fresh_patch { 2 } else { 1 };
-        let g = params.grid as u64;
-        let side = g * params.cell as u64;
-        let channels = (params.hog.channels() + usize::from(params.grey)) as u64;
-        let cells = g * g;
-        let fft2 = 2 * g * (g / 2) * u64::from(g.max(2).ilog2());
-        let transforms = passes * channels.div_ceil(2) + 1;
+    /// The operations of `params`' configuration on `target`.
+    pub fn of(params: &Params, target: Target) -> Self {
+        let g = params.grid as f64;
+        let side = g * params.cell as f64;
+        let hog_channels = params.hog.channels() as f64;
+        let channels = hog_channels + f64::from(u8::from(params.grey));
+        let (w, h) = target.current;
+        let region = h + params.padding * (w + h) / 2.0;
         let mut ops = Self {
-            pixels: passes * side * side,
-            cell_channels: passes * cells * params.hog.channels() as u64,
-            butterflies: transforms * fft2,
-            macs: 3 * channels * cells,
-            colour_pixels: 3 * (side / params.colour_step as u64).pow(2),
+            patch_px: side * side,
+            cells: g * g,
+            channels,
+            hog_channels,
+            patch_reads: reads(region, side, side),
+            butterflies: ((channels / 2.0).ceil() + 1.0) * g * g * g.log2(),
+            colour_px: (side / params.colour_step.max(1) as f64).powi(2),
+            ..Self::default()
         };
         if params.scales > 0 {
-            let s = params.scales as u64;
-            let area = params.scale_area as u64;
-            let scale_cells = area / (params.scale_cell * params.scale_cell) as u64;
-            let rows = scale_cells * params.scale_hog.channels() as u64;
-            ops.pixels += passes * s * area;
-            ops.cell_channels += passes * s * rows;
-            let transforms = passes * rows + 1;
-            if s.is_power_of_two() {
-                ops.butterflies += transforms * (s / 2) * u64::from(s.max(2).ilog2());
-            } else {
-                ops.macs += transforms * s * s;
-            }
-            ops.macs += 3 * rows * s;
+            let (mw, mh) = model_size(&scale_params(params), target.first);
+            let (mw, mh) = (mw as f64, mh as f64);
+            let middle = params.scales.div_ceil(2) as f64 - 1.0;
+            ops.samples = params.scales as f64;
+            ops.sample_px = mw * mh;
+            ops.sample_reads = (0..params.scales)
+                .map(|s| reads(h * params.scale_step.powf(middle - s as f64), mw, mh))
+                .sum();
+            let cells = (mw * mh) / (params.scale_cell * params.scale_cell) as f64;
+            ops.pairs = (cells * params.scale_hog.channels() as f64 / 2.0).ceil();
         }
         ops
     }
 
-    /// Estimated Cortex-M4 instructions.
-    pub fn instructions(&self) -> u64 {
-        self.pixels * (RESAMPLE_PER_PX + FEATURE_PER_PX)
-            + self.cell_channels * NORMALISE_PER_CELL_CHANNEL
-            + self.butterflies * PER_BUTTERFLY
-            + self.macs * PER_MAC
-            + self.colour_pixels * COLOUR_PER_PX
+    /// Each stage's terms, in the order of [`PER_OPERATION`]'s costs.
+    pub fn terms(&self) -> [Vec<f64>; 5] {
+        let s = self.samples;
+        [
+            vec![
+                self.patch_px,
+                self.cells * self.hog_channels,
+                self.patch_reads,
+                1.0,
+            ],
+            vec![self.butterflies, self.cells * self.channels],
+            vec![self.colour_px, 1.0],
+            vec![s * self.sample_px, self.sample_reads, s],
+            vec![self.cells * self.channels, self.pairs * s, 1.0],
+        ]
     }
+
+    /// Estimated Cortex-M4 instructions of each stage, by `costs` (per stage, per term).
+    pub fn stages_by(&self, costs: &[&[f64]; 5]) -> [f64; 5] {
+        let terms = self.terms();
+        std::array::from_fn(|i| terms[i].iter().zip(costs[i]).map(|(t, c)| t * c).sum())
+    }
+
+    /// Estimated Cortex-M4 instructions of each stage ([`STAGES`]).
+    pub fn stages(&self) -> [f64; 5] {
+        self.stages_by(&PER_OPERATION)
+    }
+
+    /// Estimated Cortex-M4 instructions a frame.
+    pub fn instructions(&self) -> u64 {
+        self.stages().iter().sum::<f64>().round() as u64
+    }
+}
+
+/// The costs of each term that fit `rows` (operations, measured instructions of the stage)
+/// best in relative error (least squares on `1 - estimate / measured`), by the normal
+/// equations; `None` where they are singular.
+pub fn fit(rows: &[(Vec<f64>, f64)]) -> Option<Vec<f64>> {
+    let n = rows.first()?.0.len();
+    // A^T A x = A^T b over the rows scaled by 1 / measured.
+    let mut m = vec![vec![0.0; n + 1]; n];
+    for (terms, measured) in rows {
+        let a: Vec<f64> = terms.iter().map(|t| t / measured).collect();
+        for i in 0..n {
+            for j in 0..n {
+                m[i][j] += a[i] * a[j];
+            }
+            m[i][n] += a[i];
+        }
+    }
+    // Gaussian elimination with partial pivoting.
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
+        if m[pivot][col].abs() < 1e-12 {
+            return None;
+        }
+        m.swap(col, pivot);
+        for row in 0..n {
+            if row != col {
+                let f = m[row][col] / m[col][col];
+                let pivot_row = m[col].clone();
+                for (v, p) in m[row].iter_mut().zip(&pivot_row) {
+                    *v -= f * p;
+                }
+            }
+        }
+    }
+    Some((0..n).map(|i| m[i][n] / m[i][i]).collect())
 }
 
 #[cfg(test)]
@@ -100,34 +204,54 @@ mod tests {
 
     #[test]
     fn a_16_cell_grid_counts_as_the_design_says() {
-        // A 16 x 16 2-D transform: 16 + 16 transforms of 16 points, 32 butterflies each.
+        // 10 channels: 5 pairs and an inverse, six 16 x 16 2-D transforms of 32 transforms
+        // of 16 points, 32 butterflies each; grey alone, one pair and the inverse.
         let params = Params {
             grid: 16,
             cell: 4,
-            hog: Hog::Off,
+            colour_step: 2,
+            hog: Hog::Unsigned9,
             grey: true,
             scales: 0,
-            fresh_patch: false,
             ..Params::default()
         };
-        let ops = Operations::of(&params);
-        assert_eq!(ops.butterflies, 2 * 1024);
-        assert_eq!(ops.pixels, 64 * 64);
-        assert_eq!(ops.macs, 3 * 256);
-        assert_eq!(ops.cell_channels, 0);
+        let ops = Operations::of(&params, Target::scene(1.0));
+        assert_eq!(ops.butterflies, 6.0 * 32.0 * 32.0);
+        assert_eq!(ops.patch_px, 64.0 * 64.0);
+        assert_eq!(ops.colour_px, 32.0 * 32.0);
+        assert_eq!(ops.samples, 0.0);
+        let grey = Params {
+            hog: Hog::Off,
+            ..params
+        };
+        assert_eq!(
+            Operations::of(&grey, Target::scene(1.0)).butterflies,
+            2.0 * 32.0 * 32.0
+        );
     }
 
     #[test]
-    fn fresh_patches_double_the_pixels() {
-        let once = Operations::of(&Params {
-            fresh_patch: false,
-            ..Params::default()
-        });
-        let twice = Operations::of(&Params {
-            fresh_patch: true,
-            ..Params::default()
-        });
-        assert_eq!(twice.pixels, 2 * once.pixels);
-        assert!(twice.instructions() > once.instructions());
+    fn a_region_is_read_once_a_row_at_most_two_rows_a_patch_row() {
+        // 64 patch columns: a 30 px region touches 31 rows, a 300 px one 2 a patch row.
+        assert_eq!(reads(30.0, 64.0, 64.0), 2.0 * 64.0 * 31.0);
+        assert_eq!(reads(300.0, 64.0, 64.0), 2.0 * 64.0 * 128.0);
+    }
+
+    #[test]
+    fn the_fit_recovers_known_costs() {
+        let costs = [3.0, 200.0, 5_000.0];
+        let rows: Vec<(Vec<f64>, f64)> = [(100.0, 4.0), (400.0, 9.0), (50.0, 30.0), (900.0, 2.0)]
+            .iter()
+            .map(|&(a, b)| {
+                let terms = vec![a, b, 1.0];
+                let measured = terms.iter().zip(&costs).map(|(t, c)| t * c).sum();
+                (terms, measured)
+            })
+            .collect();
+        let fitted = fit(&rows).unwrap();
+        for (f, c) in fitted.iter().zip(&costs) {
+            assert!((f - c).abs() < 1e-6 * c, "{fitted:?}");
+        }
+        assert_eq!(fit(&[(vec![1.0, 2.0], 3.0), (vec![2.0, 4.0], 6.0)]), None);
     }
 }

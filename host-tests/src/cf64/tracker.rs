@@ -562,7 +562,7 @@ fn colour_samples(
     frame.nearest(centre, geometry.region, (n, n))
 }
 
-fn scale_params(params: &Params) -> ScaleParams {
+pub(super) fn scale_params(params: &Params) -> ScaleParams {
     ScaleParams {
         scales: params.scales,
         step: params.scale_step,

@@ -67,6 +67,12 @@ pub enum Command {
     /// before the reference loses the target, and both AUCs
     #[command(allow_negative_numbers = true)]
     Port(PortArgs),
+    /// The cost model of the correlation-filter tracker: a configuration's Cortex-M4
+    /// instructions a frame on the budget example's scene, stage by stage; or, given the
+    /// budget example's output (cargo run --release --example budget --target
+    /// thumbv7em-none-eabihf), each of its rows estimated against QEMU's count, failing
+    /// where an estimate is off by more than 10 %
+    Cost(CostArgs),
     /// Follow a target with a camera on a pan/tilt head, in closed loop: a virtual camera
     /// sees half of each frame where the head points, the colour PF tracks, the pan/tilt
     /// controller turns the head; centring figures, the camera's view and the error over
@@ -399,6 +405,25 @@ pub struct PortArgs {
     pub json: bool,
 }
 
+/// Options of `rbtrack cost`.
+#[derive(Debug, Args)]
+pub struct CostArgs {
+    /// The budget example's output, as QEMU prints it
+    #[arg(value_name = "BUDGET_OUTPUT")]
+    pub budget: Option<PathBuf>,
+    /// Fit each stage's costs per operation to the budget example's rows and print them,
+    /// with the rows they give
+    #[arg(long, requires = "budget")]
+    pub fit: bool,
+    /// Without BUDGET_OUTPUT: the configuration (cf.FIELD=VALUE on --preset's; the
+    /// preset core is the integer tracker's defaults)
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Without BUDGET_OUTPUT: print one JSON object instead of the table
+    #[arg(long, conflicts_with = "budget")]
+    pub json: bool,
+}
+
 /// Options of `rbtrack paper`.
 #[derive(Debug, Args)]
 pub struct PaperArgs {
@@ -460,9 +485,9 @@ pub fn report(e: &clap::Error) -> u8 {
             2
         }
         kind => {
-            let subcommand = std::env::args()
-                .nth(1)
-                .filter(|a| ["demo", "track", "eval", "port", "paper"].contains(&a.as_str()));
+            let subcommand = std::env::args().nth(1).filter(|a| {
+                ["demo", "track", "eval", "port", "cost", "paper"].contains(&a.as_str())
+            });
             let prefix = match subcommand {
                 Some(s) => format!("rbtrack {s}: "),
                 None => "rbtrack: ".to_string(),

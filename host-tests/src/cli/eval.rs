@@ -15,7 +15,7 @@ use super::{
 };
 use crate::calibrate::{fit, refit_reliability, score_at};
 use crate::camera::{Camera, VirtualCamera};
-use crate::cf64::cost::Operations;
+use crate::cf64::cost::{Operations, Target};
 use crate::draw::{self, Series};
 use crate::loss::{reliability, worst_gap, Bin, FrameCheck, BINS};
 use crate::metrics::{BBox, Evaluation, PRECISION_MAX_PX, SUCCESS_STEPS};
@@ -248,7 +248,7 @@ pub fn eval(args: &EvalArgs, out: &mut dyn Write) -> Result<bool, Failure> {
             trackers: &trackers,
             config,
             cf64_cost: specs.iter().find_map(|s| s.cf64).map(|p| {
-                let operations = Operations::of(&p);
+                let operations = Operations::of(&p, Target::scene(1.0));
                 Cf64Cost {
                     operations,
                     instructions: operations.instructions(),
@@ -460,8 +460,8 @@ fn header(
         text += &format!("config {}: {}\n", s.tracker, config_summary(s));
         if let Some(params) = &s.cf64 {
             text += &format!(
-                "cf64 estimated Cortex-M4 instructions a frame (cf64::cost): {}\n",
-                Operations::of(params).instructions()
+                "cf64 estimated Cortex-M4 instructions a frame (cf64::cost, the budget example's scene): {}\n",
+                Operations::of(params, Target::scene(1.0)).instructions()
             );
         }
     }

@@ -1,5 +1,5 @@
 //! The `rbtrack` command-line program: its arguments ([`args`]) and the work behind each
-//! subcommand ([`demo`], [`track`], [`eval`], [`port()`], [`follow()`], [`frames()`], [`paper()`]); `main.rs` only parses and
+//! subcommand ([`demo`], [`track`], [`eval`], [`port()`], [`cost()`], [`follow()`], [`frames()`], [`paper()`]); `main.rs` only parses and
 //! dispatches.
 //!
 //! Conventions:
@@ -16,6 +16,7 @@
 //!   [`Failure::Output`], which `main` treats as a normal end.
 
 pub mod args;
+mod cost;
 mod demo;
 mod eval;
 mod follow;
@@ -26,6 +27,7 @@ mod report;
 mod runs;
 mod track;
 
+pub use cost::cost;
 pub use demo::demo;
 pub use eval::eval;
 pub use follow::follow;
