@@ -1755,9 +1755,7 @@ fn cf64_tracker_in_track_and_eval() {
 /// The budget example's correlation-filter tables, each stage `factor[i]` times the cost
 /// model's estimate: its configurations, and the defaults against the target's size.
 fn budget_output(factor: [f64; 5]) -> String {
-    use rbtrack::cf::scale::ScaleSettings;
-    use rbtrack::tracker::CfConfig;
-    use rbtrack_host::cf64::cost::{Operations, Target};
+    use rbtrack_host::cf64::cost::{budget_row, Operations, Target};
     use rbtrack_host::cf64::Params;
     let mut text = String::from(
         "correlation-filter tracker, instructions per frame by stage (mean), total (mean, max):\n \
@@ -1781,17 +1779,7 @@ fn budget_output(factor: [f64; 5]) -> String {
             .collect()
     };
     for (g, s, cell, area, ring) in configurations {
-        let defaults = CfConfig::default();
-        let config = CfConfig {
-            cell,
-            redetect: ring,
-            scale: ScaleSettings {
-                area,
-                ..defaults.scale
-            },
-            ..defaults
-        };
-        let stages = estimate(&Params::of_core(&config, g, s), Target::scene(1.0));
+        let stages = estimate(&budget_row(g, s, cell, area, ring), Target::scene(1.0));
         let total: u64 = stages.iter().sum();
         let list: Vec<String> = stages.iter().map(u64::to_string).collect();
         text += &format!(
@@ -1802,7 +1790,7 @@ fn budget_output(factor: [f64; 5]) -> String {
     text +=
         "\ncorrelation-filter tracker against target size, defaults (mean target height, px):\n";
     text += "height  features    scale     total       max\n";
-    let defaults = Params::of_core(&CfConfig::default(), 16, 8);
+    let defaults = budget_row(16, 8, 4, 512, 2);
     for height in [19, 40, 81, 122] {
         let stages = estimate(&defaults, Target::scene(f64::from(height) / 54.0));
         let total: u64 = stages.iter().sum();

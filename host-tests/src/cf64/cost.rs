@@ -59,6 +59,23 @@ impl Target {
     }
 }
 
+/// The reference's settings for a row of the budget example (`examples/budget.rs`): the
+/// integer tracker's defaults with a `grid x grid` grid, `scales` scales, cells of `cell`
+/// px, a scale model of at most `area` px^2 and `ring` re-detection regions.
+pub fn budget_row(grid: usize, scales: usize, cell: usize, area: u32, ring: usize) -> Params {
+    let defaults = rbtrack::tracker::CfConfig::default();
+    let config = rbtrack::tracker::CfConfig {
+        cell,
+        redetect: ring,
+        scale: rbtrack::cf::scale::ScaleSettings {
+            area,
+            ..defaults.scale
+        },
+        ..defaults
+    };
+    Params::of_core(&config, grid, scales)
+}
+
 /// Operations of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Operations {

@@ -5,10 +5,7 @@
 
 use super::args::CostArgs;
 use super::{cf64_for, check_read, emit, fail, overrides, Failure, TrackerKind};
-use crate::cf64::cost::{fit, Operations, Target, PER_OPERATION, STAGES};
-use crate::cf64::Params;
-use rbtrack::cf::scale::ScaleSettings;
-use rbtrack::tracker::CfConfig;
+use crate::cf64::cost::{budget_row, fit, Operations, Target, PER_OPERATION, STAGES};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -177,17 +174,13 @@ fn parse(text: &str) -> Vec<Row> {
         };
         match (table, v.as_slice()) {
             ("configurations", &[g, s, cell, area, ring, _, f, fi, c, sc, l, total, ..]) => {
-                let defaults = CfConfig::default();
-                let config = CfConfig {
-                    cell: cell as usize,
-                    redetect: ring as usize,
-                    scale: ScaleSettings {
-                        area: area as u32,
-                        ..defaults.scale
-                    },
-                    ..defaults
-                };
-                let params = Params::of_core(&config, g as usize, s as usize);
+                let params = budget_row(
+                    g as usize,
+                    s as usize,
+                    cell as usize,
+                    area as u32,
+                    ring as usize,
+                );
                 rows.push(Row {
                     label: format!("G {g} S {s} cell {cell} area {area} ring {ring}"),
                     operations: Operations::of(&params, Target::scene(1.0)),
@@ -196,7 +189,7 @@ fn parse(text: &str) -> Vec<Row> {
                 });
             }
             ("sizes", &[height, f, sc, total, _]) => {
-                let params = Params::of_core(&CfConfig::default(), 16, 8);
+                let params = budget_row(16, 8, 4, 512, 2);
                 let target = Target::scene(height / SCENE_HEIGHT);
                 rows.push(Row {
                     label: format!("defaults, {height} px tall"),
