@@ -10,11 +10,15 @@
 //! neither). The response at a place is the mean of `P` over a target-sized box there,
 //! read from an integral image of `P` over the samples in four reads.
 //!
+//! The frame is read and binned once a frame: the map keeps the histogram of all its
+//! samples, and learning reads only the samples in the target box again (those outside
+//! it are the grid's less those inside).
+//!
 //! Scales: histograms Q0.24 (`2^24` is 1), probabilities Q0.16 (`65535` is 1), box means
 //! Q16.16. A box is given in sample units (Q16.16) and covers the samples whose centres
 //! (`k + 1/2`) it contains, at least one each way, as the f64 reference's regions do.
 
-use crate::fixed::{div_u64_u32, Q16};
+use crate::fixed::{div_shl, Q16};
 use crate::image::{Binning, ImageView, PixelFormat};
 
 /// Largest sampling grid side, samples.
@@ -23,8 +27,8 @@ pub const MAX_SIDE: usize = 64;
 /// Entries per row of the integral image.
 const STRIDE: usize = MAX_SIDE + 1;
 
-/// A histogram's total, Q0.24.
-const HIST_ONE: u64 = 1 << 24;
+/// Fraction bits of a histogram (Q0.24).
+const HIST_BITS: u32 = 24;
 
 /// The sampling grid over a region of the frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -56,26 +60,38 @@ impl Grid {
         ((at + (1 << 15)) >> Q16::FRAC_BITS).clamp(i32::MIN as i64, i32::MAX as i64) as i32
     }
 
-    /// Calls `f(column, row, bin)` for every sample, row by row; returns the samples read.
+    /// Calls `f(column, row, bin)` for every sample in `ranges` (columns, rows; see
+    /// [`SampleBox::ranges`]), row by row; returns the samples read.
     fn for_each_bin<Bn: Binning, P: PixelFormat>(
         &self,
         frame: &ImageView<'_, P>,
+        ranges: Ranges,
         mut f: impl FnMut(usize, usize, u16),
     ) -> u32 {
         let side = self.side();
+        let ((x0, x1), (y0, y1)) = ranges;
+        let (x1, y1) = (x1.min(side), y1.min(side));
         let mut columns = [0i32; MAX_SIDE];
-        for (i, x) in columns.iter_mut().enumerate().take(side) {
+        for (i, x) in columns.iter_mut().enumerate().take(x1).skip(x0) {
             *x = self.pixel(self.cx, self.width, i);
         }
-        for row in 0..side {
+        for row in y0..y1 {
             let y = self.pixel(self.cy, self.height, row);
-            for (col, &x) in columns.iter().enumerate().take(side) {
+            for (col, &x) in columns.iter().enumerate().take(x1).skip(x0) {
                 f(col, row, frame.bin::<Bn>(x, y));
             }
         }
-        (side * side) as u32
+        (x1.saturating_sub(x0) * y1.saturating_sub(y0)) as u32
+    }
+
+    /// Every sample's index ranges.
+    fn all(&self) -> Ranges {
+        ((0, self.side()), (0, self.side()))
     }
 }
+
+/// Sample index ranges, `((x0, x1), (y0, y1))`: columns `x0..x1`, rows `y0..y1`.
+type Ranges = ((usize, usize), (usize, usize));
 
 /// A box of samples, Q16.16 sample units: columns `x0..x1`, rows `y0..y1`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -105,7 +121,7 @@ impl SampleBox {
 
     /// Its sample index ranges on a `side x side` grid: the samples whose centre lies
     /// inside, at least one each way.
-    fn ranges(&self, side: usize) -> ((usize, usize), (usize, usize)) {
+    fn ranges(&self, side: usize) -> Ranges {
         let range = |a: Q16, b: Q16| {
             let n = side as i64;
             // ceil(v - 1/2) in samples.
@@ -118,7 +134,7 @@ impl SampleBox {
     }
 
     #[inline]
-    fn contains(ranges: &((usize, usize), (usize, usize)), col: usize, row: usize) -> bool {
+    fn contains(ranges: &Ranges, col: usize, row: usize) -> bool {
         let ((x0, x1), (y0, y1)) = *ranges;
         (x0..x1).contains(&col) && (y0..y1).contains(&row)
     }
@@ -157,23 +173,28 @@ impl<const B: usize> ColourModel<B> {
         &self.prob
     }
 
-    /// Blends in the histograms of the samples of `grid` in `object` and outside
-    /// `target` at `rate` (Q16.16 in `[0, 1]`; 1 replaces the model). Returns the samples
-    /// read.
+    /// Blends in the histograms of the samples of `map`'s grid in `object` and outside
+    /// `target` at `rate` (Q16.16 in `[0, 1]`; 1 replaces the model); `frame` is the one
+    /// `map` was built on. Returns the samples read: those in `object` and `target`'s
+    /// bounding box.
     pub fn learn<Bn: Binning, P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
-        grid: &Grid,
+        map: &ColourMap<B>,
         object: &SampleBox,
         target: &SampleBox,
         rate: Q16,
     ) -> u32 {
         const { assert!(Bn::BINS == B, "the binning must have B bins") };
+        let grid = &map.grid;
         let side = grid.side();
         let (inner, outer) = (object.ranges(side), target.ranges(side));
-        let mut counts = [[0u16; B]; 2];
-        let mut totals = [0u32; 2];
-        let samples = grid.for_each_bin::<Bn, P>(frame, |col, row, bin| {
+        // The surroundings: the grid's samples less those in `target`.
+        let mut counts = [[0u16; B], map.counts];
+        let mut totals = [0u32, map.samples];
+        let span = |a: (usize, usize), b: (usize, usize)| (a.0.min(b.0), a.1.max(b.1));
+        let both = (span(inner.0, outer.0), span(inner.1, outer.1));
+        let samples = grid.for_each_bin::<Bn, P>(frame, both, |col, row, bin| {
             let b = bin as usize;
             if SampleBox::contains(&inner, col, row) {
                 if let Some(c) = counts[0].get_mut(b) {
@@ -181,10 +202,10 @@ impl<const B: usize> ColourModel<B> {
                     totals[0] += 1;
                 }
             }
-            if !SampleBox::contains(&outer, col, row) {
+            if SampleBox::contains(&outer, col, row) {
                 if let Some(c) = counts[1].get_mut(b) {
-                    *c += 1;
-                    totals[1] += 1;
+                    *c = c.saturating_sub(1);
+                    totals[1] = totals[1].saturating_sub(1);
                 }
             }
         });
@@ -198,7 +219,10 @@ impl<const B: usize> ColourModel<B> {
                 continue;
             }
             for (h, &c) in model.iter_mut().zip(counts.iter()) {
-                let new = div_u64_u32(c as u64 * HIST_ONE, total);
+                let new = match c {
+                    0 => 0,
+                    _ => div_shl(u32::from(c), HIST_BITS, total).0,
+                };
                 let blended = ((1 << 16) - rate) * *h as u64 + rate * new;
                 *h = (blended >> 16) as u32;
             }
@@ -209,77 +233,102 @@ impl<const B: usize> ColourModel<B> {
             .zip(self.object.iter())
             .zip(self.surroundings.iter())
         {
-            let sum = o as u64 + s as u64;
-            *p = match sum {
+            // `o <= sum < 2^25`: `o 65535 / sum` is `o 2^16 / sum` less one where the
+            // remainder is below `o`, at most 65535.
+            *p = match o {
                 0 => 0,
-                // `o <= sum < 2^25`: the quotient is at most 65535.
-                _ => div_u64_u32(o as u64 * 65535, sum as u32).min(65535) as u16,
+                _ => {
+                    let (q, r) = div_shl(o, 16, o.saturating_add(s));
+                    q.saturating_sub(u64::from(r < o)).min(65535) as u16
+                }
             };
         }
         samples
     }
 }
 
-/// The object probability of the samples of a grid, as an integral image.
+/// The object probability of the samples of a grid, as an integral image, and the
+/// histogram of the samples over the `B` colour bins.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ColourMap {
-    /// Samples a side (0 before the first build).
-    side: usize,
+pub struct ColourMap<const B: usize> {
+    /// The grid it was built on (side 0 before the first build).
+    grid: Grid,
+    /// Samples of each bin.
+    counts: [u16; B],
+    /// Samples counted in `counts`.
+    samples: u32,
     /// `integral[r * STRIDE + c]`: sum of the probabilities (Q0.16) above row `r` and left
     /// of column `c` (`<= 64^2 * 65535 < 2^28`).
     integral: [u32; STRIDE * STRIDE],
 }
 
-impl Default for ColourMap {
+impl<const B: usize> Default for ColourMap<B> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl ColourMap {
+impl<const B: usize> ColourMap<B> {
     /// An empty map, every bit zero (a `static` of one takes no flash): every box's mean
     /// 0.
     pub const fn new() -> Self {
         Self {
-            side: 0,
+            grid: Grid {
+                cx: Q16::ZERO,
+                cy: Q16::ZERO,
+                width: Q16::ZERO,
+                height: Q16::ZERO,
+                side: 0,
+            },
+            counts: [0; B],
+            samples: 0,
             integral: [0; STRIDE * STRIDE],
         }
     }
 
     /// Builds the map of `grid` from `model`'s probabilities; returns the samples read.
-    pub fn build<Bn: Binning, P: PixelFormat, const B: usize>(
+    pub fn build<Bn: Binning, P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
         grid: &Grid,
         model: &ColourModel<B>,
     ) -> u32 {
         const { assert!(Bn::BINS == B, "the binning must have B bins") };
-        let side = grid.side();
-        self.side = side;
+        self.grid = Grid {
+            side: grid.side(),
+            ..*grid
+        };
         self.integral[..STRIDE].fill(0);
-        let mut run = 0u32;
-        let integral = &mut self.integral;
-        grid.for_each_bin::<Bn, P>(frame, |col, row, bin| {
+        self.counts.fill(0);
+        let (mut run, mut counted) = (0u32, 0u32);
+        let (integral, counts) = (&mut self.integral, &mut self.counts);
+        let samples = grid.for_each_bin::<Bn, P>(frame, grid.all(), |col, row, bin| {
             if col == 0 {
                 run = 0;
                 if let Some(v) = integral.get_mut((row + 1) * STRIDE) {
                     *v = 0;
                 }
             }
+            if let Some(n) = counts.get_mut(bin as usize) {
+                *n += 1;
+                counted += 1;
+            }
             run += model.prob.get(bin as usize).copied().unwrap_or(0) as u32;
             let above = integral.get(row * STRIDE + col + 1).copied().unwrap_or(0);
             if let Some(v) = integral.get_mut((row + 1) * STRIDE + col + 1) {
                 *v = above + run;
             }
-        })
+        });
+        self.samples = counted;
+        samples
     }
 
     /// The mean probability over the samples of `b`, Q16.16 in `[0, 1]`.
     pub fn mean(&self, b: &SampleBox) -> Q16 {
-        if self.side == 0 {
+        if self.grid.side == 0 {
             return Q16::ZERO;
         }
-        let ((x0, x1), (y0, y1)) = b.ranges(self.side);
+        let ((x0, x1), (y0, y1)) = b.ranges(self.grid.side);
         let at = |r: usize, c: usize| self.integral.get(r * STRIDE + c).copied().unwrap_or(0);
         let sum = (at(y1, x1) + at(y0, x0)).wrapping_sub(at(y0, x1) + at(y1, x0));
         let count = ((x1 - x0) * (y1 - y0)) as u32;
@@ -328,15 +377,34 @@ mod tests {
         SampleBox::centred((q(c), q(c)), (q(s), q(s)))
     }
 
+    /// Learns the samples of `grid` in `object` and outside `target` into `model`, through
+    /// a map built on them; returns the samples learning read.
+    fn learn(
+        model: &mut ColourModel<512>,
+        img: &ImageView<'_, Rgb888>,
+        grid: &Grid,
+        object: &SampleBox,
+        target: &SampleBox,
+        rate: Q16,
+    ) -> u32 {
+        let mut map = ColourMap::new();
+        map.build::<Rgb8x8x8, _>(img, grid, &ColourModel::new());
+        model.learn::<Rgb8x8x8, _>(img, &map, object, target, rate)
+    }
+
     #[test]
     fn object_colours_score_one_and_surrounding_colours_zero() {
         let buf = frame();
         let img = ImageView::<Rgb888>::new(&buf, 20, 20, 20).unwrap();
         let mut model = ColourModel::<512>::new();
         let target = square(10.0, 10.0);
-        model.learn::<Rgb8x8x8, _>(&img, &grid(), &target, &target, Q16::ONE);
+        // Learning reads the target's 100 samples again, not the grid's 400.
+        assert_eq!(
+            learn(&mut model, &img, &grid(), &target, &target, Q16::ONE),
+            100
+        );
         let mut map = ColourMap::new();
-        assert_eq!(map.build::<Rgb8x8x8, _, 512>(&img, &grid(), &model), 400);
+        assert_eq!(map.build::<Rgb8x8x8, _>(&img, &grid(), &model), 400);
         // The red square is all object, a box on the green all surroundings.
         assert_eq!(map.mean(&square(10.0, 8.0)), Q16::from_bits(65535));
         assert_eq!(map.mean(&square(2.0, 4.0)), Q16::ZERO);
@@ -352,7 +420,8 @@ mod tests {
         let buf = frame();
         let img = ImageView::<Rgb888>::new(&buf, 20, 20, 20).unwrap();
         let mut model = ColourModel::<512>::new();
-        model.learn::<Rgb8x8x8, _>(
+        learn(
+            &mut model,
             &img,
             &grid(),
             &square(10.0, 12.0),
@@ -372,8 +441,8 @@ mod tests {
         let other = ImageView::<Rgb888>::new(&swapped, 20, 20, 20).unwrap();
         let target = square(10.0, 10.0);
         let mut model = ColourModel::<512>::new();
-        model.learn::<Rgb8x8x8, _>(&img, &grid(), &target, &target, Q16::ONE);
-        model.learn::<Rgb8x8x8, _>(&other, &grid(), &target, &target, Q16::HALF);
+        learn(&mut model, &img, &grid(), &target, &target, Q16::ONE);
+        learn(&mut model, &other, &grid(), &target, &target, Q16::HALF);
         // Red is now half object (first frame), half surroundings (second).
         let red = model.prob()[img.bin::<Rgb8x8x8>(6, 10) as usize] as f64 / 65535.0;
         let (o, s) = (0.5 * 99.0 / 100.0, 0.5 * 300.0 / 300.0);
@@ -393,12 +462,61 @@ mod tests {
         };
         let mut model = ColourModel::<512>::new();
         let all = square(32.0, 64.0);
-        assert_eq!(
-            model.learn::<Rgb8x8x8, _>(&img, &off, &all, &all, Q16::ONE),
-            64 * 64
-        );
+        assert_eq!(learn(&mut model, &img, &off, &all, &all, Q16::ONE), 64 * 64);
         let mut map = ColourMap::new();
-        map.build::<Rgb8x8x8, _, 512>(&img, &off, &model);
+        map.build::<Rgb8x8x8, _>(&img, &off, &model);
         assert_eq!(map.mean(&all), Q16::from_bits(65535));
+    }
+
+    /// Histograms counted over every sample of `grid` (the definition learning
+    /// follows), as `(object, surroundings)` counts per bin.
+    fn counted(
+        img: &ImageView<'_, Rgb888>,
+        grid: &Grid,
+        object: &SampleBox,
+        target: &SampleBox,
+    ) -> [[u32; 512]; 2] {
+        let side = grid.side();
+        let (inner, outer) = (object.ranges(side), target.ranges(side));
+        let mut counts = [[0u32; 512]; 2];
+        grid.for_each_bin::<Rgb8x8x8, _>(img, grid.all(), |col, row, bin| {
+            if SampleBox::contains(&inner, col, row) {
+                counts[0][bin as usize] += 1;
+            }
+            if !SampleBox::contains(&outer, col, row) {
+                counts[1][bin as usize] += 1;
+            }
+        });
+        counts
+    }
+
+    proptest::proptest! {
+        /// Learning from the map's histogram and the target's samples gives the model
+        /// that counting every sample gives, on any grid over the frame and any boxes.
+        #[test]
+        fn learning_from_the_map_counts_every_sample(
+            pixels in proptest::collection::vec(0u8..=255, 3 * 24 * 18),
+            cx in -10.0f64..34.0, cy in -10.0f64..28.0,
+            width in 0.0f64..60.0, height in 0.0f64..60.0, side in 1usize..80,
+            t in (-5.0f64..70.0, -5.0f64..70.0, 0.0f64..80.0, 0.0f64..80.0),
+            shrink in 0.0f64..1.0,
+        ) {
+            let img = ImageView::<Rgb888>::new(&pixels, 24, 18, 24).unwrap();
+            let grid = Grid { cx: q(cx), cy: q(cy), width: q(width), height: q(height), side };
+            let target = SampleBox::centred((q(t.0), q(t.1)), (q(t.2), q(t.3)));
+            let object = SampleBox::centred((q(t.0), q(t.1)), (q(t.2 * shrink), q(t.3 * shrink)));
+            let mut model = ColourModel::<512>::new();
+            learn(&mut model, &img, &grid, &object, &target, Q16::ONE);
+            let [o, s] = counted(&img, &grid, &object, &target);
+            let (no, ns) = (o.iter().sum::<u32>(), s.iter().sum::<u32>());
+            let share = |c: u32, n: u32| ((u64::from(c) << HIST_BITS) / u64::from(n.max(1))) as u32;
+            for b in 0..512 {
+                let (ob, sb) = (share(o[b], no), share(s[b], ns));
+                proptest::prop_assert_eq!(model.object[b], ob);
+                proptest::prop_assert_eq!(model.surroundings[b], sb);
+                let p = (u64::from(ob) * 65535).checked_div(u64::from(ob + sb)).unwrap_or(0);
+                proptest::prop_assert_eq!(u64::from(model.prob[b]), p);
+            }
+        }
     }
 }

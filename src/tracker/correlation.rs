@@ -35,7 +35,7 @@
 //! # Memory
 //! `size_of::<CfTracker<Bn, B, G, S>>()` is dominated by the translation filter (its
 //! numerator and the last spectra, half spectra of `10 G (G/2 + 1)` complex values each),
-//! the feature grid (`20 G^2` bytes), the colour map (`4 (2G + 1)^2` bytes) and the scale
+//! the feature grid (`20 G^2` bytes), the colour map (`4 (2G + 1)^2 + 2 B` bytes) and the scale
 //! filter; `examples/budget.rs` reports it.
 
 use super::{calibration, CameraMotion, ConfigError, Estimate, Status};
@@ -279,7 +279,7 @@ pub struct CfTracker<Bn: Binning, const B: usize, const G: usize, const S: usize
     filter: Filter<G>,
     scale: ScaleFilter<S>,
     colour: ColourModel<B>,
-    map: ColourMap,
+    map: ColourMap<B>,
     /// The last search region's features.
     cells: [[Cell; G]; G],
     /// The translation filter's last response, Q16.16.
@@ -309,7 +309,6 @@ struct Detection {
     /// The colour response at the peak's cell, Q16.16.
     colour: Q16,
     geometry: Geometry,
-    grid: Grid,
 }
 
 impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, B, G, S> {
@@ -388,8 +387,9 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.filter.reset(settings, &self.cells);
         self.scale.start(config.scale, frame, centre, size);
         let grid = self.colour_grid(centre, &geometry);
+        self.map.build::<Bn, P>(frame, &grid, &self.colour);
         let still = (Q16::ZERO, Q16::ZERO);
-        self.learn_colour(frame, &grid, &geometry, still, size, Q16::ONE);
+        self.learn_colour(frame, &geometry, still, size, Q16::ONE);
         Ok(())
     }
 
@@ -538,8 +538,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
                 found.moved.0.saturating_div(cell),
             );
             self.filter.learn(shift, c.cf_rate);
-            let (grid, geometry) = (&found.grid, &found.geometry);
-            self.learn_colour(frame, grid, geometry, found.moved, old_size, c.colour_rate);
+            self.learn_colour(frame, &found.geometry, found.moved, old_size, c.colour_rate);
             self.scale.learn(c.scale_rate);
         }
         cycles.learn = watch.lap();
@@ -619,7 +618,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.filter.respond(&self.cells, &mut self.response);
         cycles.filter = watch.lap();
         let grid = self.colour_grid(centre, &geometry);
-        self.map.build::<Bn, P, B>(frame, &grid, &self.colour);
+        self.map.build::<Bn, P>(frame, &grid, &self.colour);
 
         // The largest move the colour response can see, cells: the target box stays
         // inside the region.
@@ -697,7 +696,6 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             peak: Q16::saturate(best),
             colour,
             geometry,
-            grid,
         }
     }
 
@@ -815,12 +813,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         )
     }
 
-    /// Blends the colour samples of `grid` into the model at `rate`, the target of `size`
-    /// px found `moved` patch px from its centre.
+    /// Blends the colour samples of the last map's grid into the model at `rate`, the
+    /// target of `size` px found `moved` patch px from its centre.
     fn learn_colour<P: PixelFormat>(
         &mut self,
         frame: &ImageView<'_, P>,
-        grid: &Grid,
         geometry: &Geometry,
         moved: (Q16, Q16),
         size: (Q16, Q16),
@@ -839,7 +836,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let object = self.target_box(moved, object);
         let target = self.target_box(moved, geometry.target);
         self.colour
-            .learn::<Bn, P>(frame, grid, &object, &target, rate);
+            .learn::<Bn, P>(frame, &self.map, &object, &target, rate);
     }
 }
 

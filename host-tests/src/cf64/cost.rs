@@ -33,9 +33,9 @@ pub const STAGES: [&str; 5] = ["features", "filter", "colour", "scale", "learn"]
 pub const PER_OPERATION: [&[f64]; 5] = [
     &[144.6, 126.6, 16.2, 29_958.7],
     &[39.7, 50.0],
-    &[91.1, 8_160.6],
+    &[102.6, 9_987.9],
     &[271.2, 22.2, 18_357.6],
-    &[81.8, 139.2, 45_182.8],
+    &[61.6, 139.0, 39_231.2],
 ];
 
 /// The target the cost depends on: its first box, px (width, height), which fixes the
