@@ -376,7 +376,8 @@ typedef struct {
   rbt_q16 uncertain_below;
   // Status lost below this confidence (and until `uncertain_below` again), Q16.16.
   rbt_q16 lost_below;
-  // Regions searched besides the usual one each frame while lost, 0..=8.
+  // Ring regions searched besides the usual one each frame while lost, 0..=8; when
+  // above 0, the region where the target was last seen too.
   uint32_t redetect;
   // A searched region takes over when its merged peak is at least this, Q16.16...
   rbt_q16 redetect_above;

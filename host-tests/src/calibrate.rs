@@ -44,8 +44,8 @@ pub struct Fit {
     pub table: Calibration,
 }
 
-/// The table fitted to `checks`' frames: knots at scores 0 and 1 and at evenly spaced
-/// quantiles of the frames' scores, each knot's confidence the mean isotonic fit of the
+/// The table fitted to `checks`' frames: knots at scores 0 and 1 and where the isotonic
+/// fit reaches each tenth (then at score quantiles, [`knot_scores`]), each knot's confidence the mean isotonic fit of the
 /// frames nearer it than any other knot, raised where needed so that the confidences rise
 /// strictly (a table that keeps every pair of scores in order keeps the confidence's ROC
 /// AUC as the score's). `None` without frames.
@@ -59,7 +59,7 @@ pub fn fit<'a>(checks: impl IntoIterator<Item = &'a FrameCheck>) -> Option<Fit> 
     }
     let fitted = isotonic(&mut points);
     let scores: Vec<f64> = points.iter().map(|p| p.0).collect();
-    let knot_scores = knot_scores(&scores);
+    let knot_scores = knot_scores(&scores, &fitted);
     let mut thousandths = [(0u16, 0u16); KNOTS];
     let mut last: Option<u16> = None;
     for k in 0..KNOTS {
@@ -90,15 +90,25 @@ pub fn fit<'a>(checks: impl IntoIterator<Item = &'a FrameCheck>) -> Option<Fit> 
     Some(Fit { thousandths, table })
 }
 
-/// The knots' scores in whole thousandths: 0, 1, and between them score quantiles of the
-/// frames (`sorted`), evenly spaced first, skipping any within 0.01 of a knot already
-/// there.
-fn knot_scores(sorted: &[f64]) -> [f64; KNOTS] {
+/// The knots' scores in whole thousandths: 0, 1, and between them the scores where the
+/// isotonic fit (`fitted`, of the frames' scores `sorted`) first reaches 0.2, 0.4, 0.6,
+/// 0.8, then 0.1, 0.3, 0.5, 0.7, 0.9 (so that the table bends where the share on the
+/// target changes, which is what each tenth of confidence is judged on), then score
+/// quantiles of the frames, evenly spaced first; skipping any within 0.01 of a knot
+/// already there.
+fn knot_scores(sorted: &[f64], fitted: &[f64]) -> [f64; KNOTS] {
     let mut knots = vec![0.0, 1.0];
+    let levels = [2, 4, 6, 8, 1, 3, 5, 7, 9].map(|t| f64::from(t) / 10.0);
+    let crossings = levels.iter().filter_map(|&level| {
+        let i = fitted.iter().position(|&v| v >= level)?;
+        Some(thousandths(sorted[i]))
+    });
     let n = 4 * (KNOTS - 1);
     let even = (1..n).filter(|j| j % 4 == 0);
-    for j in even.chain((1..n).filter(|j| j % 4 != 0)) {
-        let at = thousandths(sorted[j * (sorted.len() - 1) / n]);
+    let quantiles = even
+        .chain((1..n).filter(|j| j % 4 != 0))
+        .map(|j| thousandths(sorted[j * (sorted.len() - 1) / n]));
+    for at in crossings.chain(quantiles) {
         if knots.len() < KNOTS && knots.iter().all(|k| (k - at).abs() >= 0.01) {
             knots.push(at);
         }

@@ -110,14 +110,14 @@ pub const IDENTITY: Calibration = table([
 /// The correlation-filter tracker's table (score: the merged response peak).
 pub const CORRELATION: Calibration = table([
     (0, 10),
-    (224, 107),
-    (261, 460),
-    (292, 651),
-    (318, 736),
-    (343, 859),
-    (372, 873),
-    (415, 896),
-    (486, 971),
+    (217, 51),
+    (231, 226),
+    (247, 407),
+    (265, 512),
+    (281, 618),
+    (310, 705),
+    (332, 843),
+    (403, 928),
     (1000, 1000),
 ]);
 

@@ -23,12 +23,14 @@
 //!    the search region's spectra and colour samples with the target where it was found,
 //!    and the scale samples.
 //!
-//! While the target is lost the tracker may search `redetect` more regions a frame, on a
-//! ring half a region from where it was last seen, and may centre its searches where the
-//! velocity it had when lost puts it (`coast`); a ring region takes over only when its
-//! merged peak and colour score clear `redetect_above` and `redetect_colour` and its peak
-//! beats the usual region's. A frame's work is then at most `redetect + 2` searches (the
-//! ring, the usual region and, when a ring region takes over, that region again so that the
+//! While the target is lost the tracker may search where it was last seen (the anchor:
+//! an occluded target reappears there, while the usual search follows the best peak,
+//! often the occluder) and `redetect` more regions a frame, on a ring half a region
+//! around the anchor, and may centre its searches where the velocity it had when lost
+//! puts it (`coast`); such a region takes over only when its merged peak and colour score
+//! clear `redetect_above` and `redetect_colour` and its peak beats the usual region's.
+//! A frame's work is then at most `redetect + 3` searches (the anchor's, the ring, the
+//! usual region and, when another region takes over, that region again so that the
 //! filter learns its spectra). By default it searches 2 ring regions a frame and does not
 //! coast (docs/accuracy.md measures both).
 //!
@@ -109,10 +111,11 @@ pub struct CfConfig {
     /// stays lost until the confidence reaches `uncertain_below` (no flicker about one
     /// threshold).
     pub lost_below: Q16,
-    /// Regions searched besides the usual one each frame while lost, `0..=8`: the next of
-    /// a ring of 8, each half a region from where the target was last seen.
+    /// Ring regions searched besides the usual one each frame while lost, `0..=8`: the
+    /// next of a ring of 8, each half a region from where the target was last seen; when
+    /// above 0, that region itself too (0: no re-detection).
     pub redetect: usize,
-    /// A ring region takes over when its merged peak is at least this, Q16.16...
+    /// A searched region takes over when its merged peak is at least this, Q16.16...
     pub redetect_above: Q16,
     /// ...and its colour score (the object probability at its peak) at least this,
     /// Q16.16.
@@ -699,9 +702,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
     }
 
-    /// While lost: searches the next `redetect` regions of the ring around the anchor
-    /// and returns the centre and peak of the first with the best peak of those that clear
-    /// `redetect_above` and `redetect_colour`, if any. Its work is `cycles.redetect`.
+    /// While lost: searches the anchor's region (an occluded target reappears where it was
+    /// last seen) and the next `redetect` regions of the ring around it (none of them
+    /// when `redetect` is 0), and returns the centre and peak of the first with the best
+    /// peak of those that clear `redetect_above` and `redetect_colour`, if any. Its work
+    /// is `cycles.redetect`.
     fn search_ring<P: PixelFormat, C: CycleCounter>(
         &mut self,
         frame: &ImageView<'_, P>,
@@ -714,8 +719,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let mut best: Option<((Q16, Q16), Q16)> = None;
         // Each lost frame starts where the last one stopped.
         let first = self.lost_frames % RING.len() * c.redetect;
-        for k in 0..c.redetect {
-            let (ox, oy) = RING[(first + k) % RING.len()];
+        let ring = (0..c.redetect).map(|k| RING[(first + k) % RING.len()]);
+        let offsets = core::iter::once((0, 0))
+            .filter(|_| c.redetect > 0)
+            .chain(ring);
+        for (ox, oy) in offsets {
             let centre = self.inside((
                 self.anchor.0.saturating_add(half(region.0, ox)),
                 self.anchor.1.saturating_add(half(region.1, oy)),

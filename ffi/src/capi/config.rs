@@ -389,7 +389,8 @@ pub struct rbt_cf_config {
     pub uncertain_below: rbt_q16,
     /// Status lost below this confidence (and until `uncertain_below` again), Q16.16.
     pub lost_below: rbt_q16,
-    /// Regions searched besides the usual one each frame while lost, 0..=8.
+    /// Ring regions searched besides the usual one each frame while lost, 0..=8; when
+    /// above 0, the region where the target was last seen too.
     pub redetect: u32,
     /// A searched region takes over when its merged peak is at least this, Q16.16...
     pub redetect_above: rbt_q16,

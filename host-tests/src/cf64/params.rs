@@ -83,7 +83,8 @@ pub struct Params {
     /// Below this confidence it is lost; once lost, it stays lost until the confidence
     /// reaches `uncertain_below`.
     pub lost_below: f64,
-    /// Regions searched besides the usual one per frame while lost (0: none).
+    /// Ring regions searched per frame while lost, besides the usual one and, when above
+    /// 0, the anchor's (0: no re-detection).
     pub redetect: usize,
     /// A region searched while lost takes over when its score is at least this...
     pub redetect_above: f64,

@@ -421,7 +421,8 @@ impl Tracker {
         self.last
     }
 
-    /// While lost: `redetect` more regions around where the target was last seen, the
+    /// While lost (with `redetect` above 0): the region where the target was last seen
+    /// (the anchor: an occluded target reappears there) and `redetect` more around it, the
     /// next ones of a ring of 8 each frame, each half a region away; the best of them
     /// replaces `found` if its peak and colour score clear their thresholds and its peak
     /// beats `found`'s.
@@ -438,9 +439,12 @@ impl Tracker {
         ];
         let p = &self.params;
         let region = Geometry::new(p, self.size).region;
+        // The anchor itself first (where a hidden target reappears), then the ring.
+        let offsets = std::iter::once((0.0, 0.0))
+            .filter(|_| p.redetect > 0)
+            .chain((0..p.redetect).map(|k| RING[(self.lost_frames * p.redetect + k) % RING.len()]));
         let mut best = found;
-        for k in 0..p.redetect {
-            let (ox, oy) = RING[(self.lost_frames * p.redetect + k) % RING.len()];
+        for (ox, oy) in offsets {
             let centre = (
                 (self.anchor.0 + ox * region.0 / 2.0).clamp(0.0, self.frame_size.0 - 1.0),
                 (self.anchor.1 + oy * region.1 / 2.0).clamp(0.0, self.frame_size.1 - 1.0),

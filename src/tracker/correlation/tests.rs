@@ -248,8 +248,9 @@ impl CycleCounter for Laps {
 
 /// The block leaves for 4 frames (the tracker is lost) and comes back half a region
 /// right of where it was last seen, beyond the usual search's reach: with re-detection
-/// (2 ring regions a frame, 3 laps each, and 3 more for the region that takes over) the
-/// ring's region there finds it on that frame; without, the tracker is still lost.
+/// (the anchor's region and 2 ring regions a frame, 3 laps each, and 3 more for the
+/// region that takes over) the ring's region there finds it on that frame; without, the
+/// tracker is still lost.
 #[test]
 fn re_detection_finds_the_target_half_a_region_away() {
     let first = frame(20);
@@ -265,7 +266,10 @@ fn re_detection_finds_the_target_half_a_region_away() {
         for k in 0..4 {
             let (e, cycles) = tracker.step_profiled(&empty, Laps(0));
             assert_eq!(e.status, Status::Lost, "redetect {redetect}, frame {k}");
-            let ring = if k == 0 { 0 } else { 3 * redetect as u32 };
+            let ring = match (k, redetect) {
+                (0, _) | (_, 0) => 0,
+                _ => 3 * (redetect as u32 + 1),
+            };
             assert_eq!(cycles.redetect, ring, "redetect {redetect}, frame {k}");
         }
         // The next step's first ring region is half a region right of the first box.
@@ -278,12 +282,62 @@ fn re_detection_finds_the_target_half_a_region_away() {
         if redetect == 0 {
             assert_eq!((e.status, cycles.redetect), (Status::Lost, 0));
         } else {
-            assert_eq!(cycles.redetect, 9, "2 ring regions and the one taken");
+            assert_eq!(
+                cycles.redetect, 12,
+                "the anchor's, 2 ring regions, the one taken"
+            );
             assert_ne!(e.status, Status::Lost);
             assert!(
                 (cx - (x0 as f64 + 7.5)).abs() < 1.5,
                 "centre {cx}, block at {x0}"
             );
+        }
+    }
+}
+
+/// A plain bright 16 x 20 px box (the block's look-alike in size, not in texture) at
+/// `x1` on `buf`, a frame of [`ramp`].
+fn with_box(mut buf: Vec<u8>, x1: usize) -> Vec<u8> {
+    for y in 26..46 {
+        buf[y * 96 + x1..y * 96 + x1 + 16].fill(200);
+    }
+    buf
+}
+
+/// The block is hidden while a box drifts off from where it was (3 px a frame): the lost
+/// tracker's usual search follows the box's peak away. The block then shows again where
+/// it was last seen: with re-detection the anchor's region finds it on that frame;
+/// without, the tracker is still away on the box.
+#[test]
+fn re_detection_finds_the_target_where_it_was_last_seen() {
+    let first = frame(20);
+    let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+    for redetect in [0, 2] {
+        let config = CfConfig {
+            redetect,
+            ..CfConfig::default()
+        };
+        let mut tracker = Small::new(config, &view, Rect::new(20, 26, 16, 20)).unwrap();
+        let mut away = 0.0;
+        for x1 in (26..=74).step_by(3) {
+            let buf = with_box(ramp(), x1);
+            let e = tracker.step(&ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap());
+            away = e.ellipse.cx.to_f64();
+        }
+        assert!(
+            away > 50.0,
+            "redetect {redetect}: the search stayed at {away}"
+        );
+        let back = with_box(frame(20), 74);
+        let e = tracker.step(&ImageView::<Gray8>::new(&back, 96, 72, 96).unwrap());
+        let cx = e.ellipse.cx.to_f64();
+        std::println!("redetect {redetect}: {:?}, centre {cx}", e.status);
+        match redetect {
+            0 => assert!(cx > 50.0, "found again without re-detection: {cx}"),
+            _ => {
+                assert_ne!(e.status, Status::Lost);
+                assert!((cx - 27.5).abs() < 1.5, "centre {cx}, block at 20");
+            }
         }
     }
 }
