@@ -18,7 +18,8 @@
 //!    which sets the status.
 //! 5. The scale filter ([`crate::cf::scale`]) finds the size there, at most
 //!    `max_scale_change` away from the last; the size changes only when the score is at
-//!    least `scale_above`.
+//!    least `scale_above`, and below both it and `learn_above` (a lost frame) the scale
+//!    samples are not taken.
 //! 6. When the score is at least `learn_above`, the three models learn the frame:
 //!    the search region's spectra and colour samples with the target where it was found,
 //!    and the scale samples.
@@ -521,17 +522,20 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             self.anchor = self.centre;
         }
 
-        let factor = self
-            .scale
-            .respond(frame, self.centre, self.size)
-            .max(Q16::ONE.saturating_div(c.max_scale_change))
-            .min(c.max_scale_change);
+        // The scale samples serve a size change (at `scale_above`) and learning (at
+        // `learn_above`): below both, as on a lost frame, they are not taken.
+        let factor = match score >= c.scale_above {
+            true => self.scale.respond(frame, self.centre, self.size),
+            false if score >= c.learn_above => {
+                self.scale.respond(frame, self.centre, self.size);
+                Q16::ONE
+            }
+            false => Q16::ONE,
+        }
+        .max(Q16::ONE.saturating_div(c.max_scale_change))
+        .min(c.max_scale_change);
         cycles.scale = watch.lap();
         let old_size = self.size;
-        let factor = match score >= c.scale_above {
-            true => factor,
-            false => Q16::ONE,
-        };
         self.resize(self.factor.saturating_mul(factor));
 
         if score >= c.learn_above {
