@@ -524,12 +524,12 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
 
         // The scale samples serve a size change (at `scale_above`) and learning (at
         // `learn_above`): below both, as on a lost frame, they are not taken.
-        let factor = match score >= c.scale_above {
+        let sampled = match score >= c.scale_above || score >= c.learn_above {
             true => self.scale.respond(frame, self.centre, self.size),
-            false if score >= c.learn_above => {
-                self.scale.respond(frame, self.centre, self.size);
-                Q16::ONE
-            }
+            false => Q16::ONE,
+        };
+        let factor = match score >= c.scale_above {
+            true => sampled,
             false => Q16::ONE,
         }
         .max(Q16::ONE.saturating_div(c.max_scale_change))
