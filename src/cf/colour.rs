@@ -18,7 +18,7 @@
 //! Q16.16. A box is given in sample units (Q16.16) and covers the samples whose centres
 //! (`k + 1/2`) it contains, at least one each way, as the f64 reference's regions do.
 
-use crate::fixed::{div_shl, Q16};
+use crate::fixed::{div_u64_u32, Q16};
 use crate::image::{Binning, ImageView, PixelFormat};
 
 /// Largest sampling grid side, samples.
@@ -221,7 +221,7 @@ impl<const B: usize> ColourModel<B> {
             for (h, &c) in model.iter_mut().zip(counts.iter()) {
                 let new = match c {
                     0 => 0,
-                    _ => div_shl(u32::from(c), HIST_BITS, total).0,
+                    _ => div_u64_u32(u64::from(c) << HIST_BITS, total),
                 };
                 let blended = ((1 << 16) - rate) * *h as u64 + rate * new;
                 *h = (blended >> 16) as u32;
@@ -233,14 +233,11 @@ impl<const B: usize> ColourModel<B> {
             .zip(self.object.iter())
             .zip(self.surroundings.iter())
         {
-            // `o <= sum < 2^25`: `o 65535 / sum` is `o 2^16 / sum` less one where the
-            // remainder is below `o`, at most 65535.
+            // `o <= sum < 2^25`: the quotient is at most 65535.
+            let sum = u64::from(o) + u64::from(s);
             *p = match o {
                 0 => 0,
-                _ => {
-                    let (q, r) = div_shl(o, 16, o.saturating_add(s));
-                    q.saturating_sub(u64::from(r < o)).min(65535) as u16
-                }
+                _ => div_u64_u32(u64::from(o) * 65535, sum as u32).min(65535) as u16,
             };
         }
         samples

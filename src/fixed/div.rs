@@ -49,34 +49,6 @@ pub fn div_u64_u32(n: u64, d: u32) -> u64 {
     (q_hi as u64) << 32 | (q1 << DIGIT_BITS | q0) as u64
 }
 
-/// `(n 2^shift / d, n 2^shift mod d)`, the quotient rounded down (`(0, 0)` for `d = 0`),
-/// exactly, for `shift <= 32`: long division in as few 32-bit divisions as `d` leaves room
-/// for (each step shifts the remainder, below `d`, by up to `d`'s leading zeros: one
-/// division for `n` and two more for `shift = 24` and `d < 2^20`), about a third of
-/// [`div_u64_u32`]'s work for the histogram shares it serves.
-#[inline]
-pub fn div_shl(n: u32, shift: u32, d: u32) -> (u64, u32) {
-    let shift = shift.min(32);
-    let room = d.leading_zeros();
-    if room == 0 {
-        let wide = u64::from(n) << shift;
-        let q = div_u64_u32(wide, d);
-        return (q, wide.wrapping_sub(q.wrapping_mul(u64::from(d))) as u32);
-    }
-    let (Some(q), Some(mut r)) = (n.checked_div(d), n.checked_rem(d)) else {
-        return (0, 0);
-    };
-    let (mut q, mut left) = (u64::from(q), shift);
-    while left > 0 {
-        let k = left.min(room);
-        let t = r << k;
-        q = q << k | u64::from(t.checked_div(d).unwrap_or(0));
-        r = t.checked_rem(d).unwrap_or(0);
-        left -= k;
-    }
-    (q, r)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,44 +86,6 @@ mod tests {
         ] {
             let want = if d == 0 { 0 } else { n / d as u64 };
             assert_eq!(div_u64_u32(n, d), want, "{n} / {d}");
-        }
-    }
-
-    #[test]
-    fn div_shl_is_exact() {
-        let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
-        let check = |n: u32, shift: u32, d: u32| {
-            let wide = u64::from(n) << shift.min(32);
-            let want = match d {
-                0 => (0, 0),
-                _ => (wide / u64::from(d), (wide % u64::from(d)) as u32),
-            };
-            assert_eq!(div_shl(n, shift, d), want, "{n} << {shift} / {d}");
-        };
-        for i in 0..1_000_000u32 {
-            let n = (next() >> (32 + i % 32)) as u32;
-            let d = (next() >> (32 + (i / 32) % 32)) as u32;
-            check(n, (i / 1024) % 33, d);
-        }
-        for (n, shift, d) in [
-            (u32::MAX, 32, 1),
-            (u32::MAX, 32, u32::MAX),
-            (u32::MAX, 32, 0x8000_0000),
-            (1, 32, 0x7FFF_FFFF),
-            (0x7FFF_FFFF, 31, 0x8000_0001),
-            (4096, 24, 4096),
-            (1 << 24, 16, (1 << 25) - 1),
-            (0, 24, 7),
-            (5, 24, 0),
-            (7, 40, 3),
-        ] {
-            check(n, shift, d);
         }
     }
 }

@@ -26,7 +26,7 @@ mod div;
 mod sqrt;
 
 #[doc(hidden)]
-pub use div::{div_shl, div_u64_u32};
+pub use div::div_u64_u32;
 #[doc(hidden)]
 pub use sqrt::{isqrt32, isqrt_u64, sqrt_q8, sqrt_u64_q8, SQRT_FRAC_BITS};
 
