@@ -10,7 +10,9 @@
 //! - the pan/tilt controller's step (`rbtrack::pantilt`), over 1,000 steps, and a known
 //!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom);
 //! - one 2-D forward FFT of a 32 x 32 grid of full-scale Q31 samples (`rbtrack::fft`, the
-//!   correlation filter's transform);
+//!   correlation filter's transform), one of a 16 x 16 grid of Q16 samples (the
+//!   correlation filter's at its defaults, shift-free) and an 8-point one of Q21 samples
+//!   (the scale filter's, the mean of 128);
 //! - the correlation-filter tracker (`rbtrack::tracker::CfTracker`) stage by stage, mean and
 //!   largest, the largest step while lost (with its re-detection: the ring's searches) and
 //!   its `size_of`: against its grid (`G`, 8 or 16 cells a side), cell side,
@@ -421,6 +423,32 @@ mod budget {
             "2-D forward FFT, 32 x 32, Q31: {} instructions (block exponent {})",
             counter.now().wrapping_sub(start),
             exponent
+        );
+        // The correlation filter's: Q16 features, and the scale filter's Q21 ones.
+        let mut small = [[Complex::ZERO; 16]; 16];
+        for v in small.as_flattened_mut() {
+            *v = Complex::new((rng.next_u32() as i32) >> 15, (rng.next_u32() as i32) >> 15);
+        }
+        let start = counter.now();
+        let exponent = fft::forward_2d(core::hint::black_box(&mut small));
+        hprintln!(
+            "2-D forward FFT, 16 x 16, Q16: {} instructions (block exponent {})",
+            counter.now().wrapping_sub(start),
+            exponent
+        );
+        // 128 of them in the 32 x 32 grid's memory.
+        for v in grid.as_flattened_mut() {
+            *v = Complex::new((rng.next_u32() as i32) >> 11, (rng.next_u32() as i32) >> 11);
+        }
+        let start = counter.now();
+        for row in grid.as_flattened_mut().chunks_exact_mut(8) {
+            if let Ok(row) = <&mut [Complex; 8]>::try_from(row) {
+                fft::forward(core::hint::black_box(row));
+            }
+        }
+        hprintln!(
+            "FFT, 8 points, Q21: {} instructions (mean of 128)",
+            counter.now().wrapping_sub(start) / 128
         );
 
         hprintln!("");

@@ -10,8 +10,7 @@
 //! stage of butterflies 1 apart, radix-4 stages (two radix-2 stages at once, butterflies
 //! 2 and 4 apart, then 8 and 16), and a last radix-2 stage where one is left (`N` = 4, 16,
 //! 64). The inverse is the forward transform of the conjugate, conjugated, so one
-//! transform's code serves both (10 KB less flash in `examples/cf_firmware.rs`, by
-//! `llvm-size -A`, than forward and inverse copies).
+//! transform's code serves both.
 //!
 //! # Scale: block floating point
 //! Samples are `i32` ([`Complex`]), twiddles Q31. Before each stage the largest component
@@ -24,11 +23,25 @@
 //!   and every output is below `(1 + 3 sqrt 2) 2^28 + 2 < 1.41e9`.
 //!
 //! Below `2^31` either way: no stage can overflow on any input, `i32::MIN` everywhere
-//! included, so the radix-4 adds need no saturation. A block that never comes near the
-//! rails is never shifted. Each function returns the block exponent `e`: the exact
-//! transform of the input is the output times `2^e` (`e` counts the shifts, less `log2 N`
-//! for the inverse's `1/N`), so a caller adds it to the input's own exponent.
-//! [`normalise`] shifts a block up to use the headroom first.
+//! included, so no add needs saturation (they wrap, and never do). A block that never
+//! comes near the rails is never shifted. Each function returns the block exponent `e`:
+//! the exact transform of the input is the output times `2^e` (`e` counts the shifts,
+//! less `log2 N` for the inverse's `1/N`), so a caller adds it to the input's own
+//! exponent. [`normalise`] shifts a block up to use the headroom first.
+//!
+//! # Headroom: stages without a scan
+//! A stage's outputs are at most `5/2` (radix 2) or `21/4` (radix 4) times its inputs'
+//! largest magnitude, plus the roundings (`grown`): from the input's magnitude, scanned
+//! once, that bound proves for the first stages of a block well inside the rails (the
+//! correlation filter's Q16 features, its scale filter's Q21 ones) that they cannot
+//! shift. Those stages skip the scan of their outputs; a stage whose successor the bound
+//! cannot clear scans, so the next shift is always read from the values. The shifts, and
+//! so the outputs, are those of a scan at every stage, bit for bit.
+//!
+//! Where the first three stages (butterflies 1 apart, then the radix-4 stage of quarters
+//! 2 apart) and the next are proved shift-free, they are exact adds but for two products
+//! (`W^1` and `W^3` of 8 points; `W^2 = -i` is exact there), and run on each 8 items in
+//! four passes (`eight`) where the stages take seven.
 //!
 //! # Why Q31 and not Q15
 //! A 32 x 32 grid's spectrum grows by up to 10 bits over its samples: in Q15 an 8-bit
@@ -39,14 +52,21 @@
 //! rounding and twice the RAM (8 bytes a complex sample, 8 KiB for a 32 x 32 grid).
 //!
 //! # Cost
-//! One 32 x 32 forward transform is 170,720 instructions in QEMU (`examples/budget.rs`,
-//! Cortex-M4F), 33 a radix-2 butterfly (5,120 of them); 16 x 16, 39,440 (39 a
-//! butterfly). A radix-4 butterfly loads, stores and scans each value once for two
-//! stages and multiplies three times where four radix-2 butterflies would four; the
-//! butterflies of twiddle 1 (the first of each group) multiply not at all, and a radix-2
-//! stage's butterfly `j + half / 2` takes the twiddle of `j` turned by a quarter, a swap
-//! of parts. The bit reversal is a table of swaps built at compile time, and a square
-//! grid's rows are transformed as its transpose's columns.
+//! Instructions in QEMU (Cortex-M4F; `examples/budget.rs` for 32 x 32): one 2-D forward
+//! transform of 16 x 16 Q16 samples (the correlation filter's) 20,640, 20.2 a radix-2
+//! butterfly (1,024 of them); of full-scale samples, shifting at every stage, 40,600; of
+//! 32 x 32 full-scale samples 161,800; one 8-point transform of Q21 samples (the scale
+//! filter's) 305, 25 a butterfly. The butterflies run along runs of values in loops of
+//! two runs each: a radix-2 butterfly loads, stores and adds a pair of values, a radix-4
+//! one makes two such passes (a loop over four runs takes more registers than the core
+//! has, and the compiler then spills), with three multiplies where four radix-2
+//! butterflies would take four; the butterflies of twiddle 1 (the first of each group)
+//! multiply not at all, and a radix-2 stage's butterfly `j + half / 2` takes the twiddle
+//! of `j` turned by a quarter, a swap of parts. A product is two multiply-accumulates and
+//! an add of the low word's top bit. The bit reversal is a table of swaps built at
+//! compile time; a square grid's rows are transformed as the columns of its transpose,
+//! the transpose's both indices bit-reversed, so that one transpose between the passes
+//! leaves the columns' items bit-reversed as well.
 //!
 //! # Accuracy
 //! In LSB of the output (`2^e` of the input's units), for a transform of `P` points (`N`,
@@ -201,155 +221,348 @@ fn log2_points<const N: usize>() -> i32 {
     N.trailing_zeros() as i32
 }
 
-/// What a butterfly transforms: one complex value, or a row of them (the columns of a
-/// grid, all at once).
-trait Lanes {
-    /// `(a, b) <- ((a + r w b) / 2^S, (a - r w b) / 2^S)`, rounded, with `w = cos - i sin`
-    /// (`w = 1` exactly if `ONE`) and `r = 1`, or if `QUARTER` the quarter turn `-i` (the
-    /// twiddle `N/4` further on); the outputs' magnitude bits ORed.
-    fn butterfly<const ONE: bool, const QUARTER: bool, const S: u32>(
-        a: &mut Self,
-        b: &mut Self,
-        w: (i32, i32),
-    ) -> u32;
+/// How a stage runs: [`FAST`], [`SCAN`] or [`SHIFT`].
+type Mode = u8;
 
-    /// The radix-4 butterfly of the quarters `q` (two radix-2 stages, `h` and `2 h` apart,
-    /// at once): `u = (q0, W^2j q1, W^j q2, W^3j q3) / 2^S` (`w` = `W^j, W^2j, W^3j`; all 1
-    /// exactly if `ONE`), rounded, then `q0 = u0 + u1 + u2 + u3`, `q1 = u0 - u1 - i (u2 -
-    /// u3)`, `q2 = u0 + u1 - u2 - u3`, `q3 = u0 - u1 + i (u2 - u3)`; the outputs' magnitude
-    /// bits ORed.
-    fn butterfly4<const ONE: bool, const S: u32>(q: [&mut Self; 4], w: &[(i32, i32); 3]) -> u32;
+/// No shift, and no scan of the outputs: the headroom proves that the next stage does
+/// not shift either.
+const FAST: Mode = 0;
+
+/// No shift; the outputs' magnitude bits ORed, for the next stage's shift.
+const SCAN: Mode = 1;
+
+/// A right shift by `s` in `1..=3`; the outputs' magnitude bits ORed.
+const SHIFT: Mode = 2;
+
+/// The parts of a stage's shift `s` (`1..=3`; unused without a shift) its arithmetic
+/// takes: `2^(s - 1)`, the rounding of a product `2^(30 + s)` and `s - 1`.
+#[derive(Clone, Copy)]
+struct Shift {
+    s: u32,
+    half: i32,
+    product_half: i64,
 }
 
-/// `x / 2^S`, rounded to nearest (half up; `i32::MAX` rounds down).
-#[inline]
-fn shift_round<const S: u32>(x: i32) -> i32 {
-    match S {
-        0 => x,
-        _ => x.saturating_add(1 << (S - 1)) >> S,
-    }
-}
-
-/// `x / 2^S`, rounded to nearest, ties toward zero (as a product by the twiddle table's 1,
-/// `1 - 2^-31`, would round): unbiased, where ties up would add a bias to every sum with a
-/// [`shift_round`]ed value.
-#[inline]
-fn shift_round_to_zero<const S: u32>(x: i32) -> i32 {
-    match S {
-        0 => x,
-        _ => x.saturating_add((1 << (S - 1)) - 1 - (x >> 31)) >> S,
-    }
-}
-
-/// `(x cos + y sin) / 2^(31 + S)`, rounded, for `|x|, |y| <= 2^31`, or `<= 2^29` if `S`
-/// is 0: the high word of one 64-bit multiply-accumulate pair (`smull`, `smlal`). For
-/// `S = 0` the inputs are doubled first (at most `2^30`, no overflow), so that the
-/// result is the high word there too, without a 64-bit shift.
-#[inline]
-fn q31_dot<const S: u32>(x: i32, y: i32, cos: i32, sin: i32) -> i32 {
-    let (x, y, shift) = match S {
-        0 => (x << 1, y << 1, 32),
-        _ => (x, y, 31 + S),
-    };
-    (((1i64 << (shift - 1)) + x as i64 * cos as i64 + y as i64 * sin as i64) >> shift) as i32
-}
-
-/// `w b / 2^S` (`w = cos - i sin`; `b / 2^S` exactly if `ONE`), each
-/// part rounded: `|.| <= sqrt 2 2^31 / 2^S`.
-#[inline]
-fn twiddled<const ONE: bool, const S: u32>(b: Complex, w: (i32, i32)) -> Complex {
-    if ONE {
-        Complex::new(
-            shift_round_to_zero::<S>(b.re),
-            shift_round_to_zero::<S>(b.im),
-        )
-    } else {
-        let sin = w.1;
-        Complex::new(
-            q31_dot::<S>(b.re, b.im, w.0, sin),
-            q31_dot::<S>(b.im, b.re, w.0, sin.wrapping_neg()),
-        )
-    }
-}
-
-impl Lanes for Complex {
-    // Inlined into the loops, or the quarters pass through memory.
-    #[inline(always)]
-    fn butterfly4<const ONE: bool, const S: u32>(
-        [q0, q1, q2, q3]: [&mut Self; 4],
-        w: &[(i32, i32); 3],
-    ) -> u32 {
-        // Terms of at most `sqrt 2 2^28 + 1/2`, sums of four of them below `1.5e9` (module
-        // doc): the adds wrap nowhere.
-        let u0 = Self::new(shift_round::<S>(q0.re), shift_round::<S>(q0.im));
-        let u1 = twiddled::<ONE, S>(*q1, w[1]);
-        let (are, aim) = (u0.re.wrapping_add(u1.re), u0.im.wrapping_add(u1.im));
-        let (bre, bim) = (u0.re.wrapping_sub(u1.re), u0.im.wrapping_sub(u1.im));
-        let u2 = twiddled::<ONE, S>(*q2, w[0]);
-        let u3 = twiddled::<ONE, S>(*q3, w[2]);
-        let (cre, cim) = (u2.re.wrapping_add(u3.re), u2.im.wrapping_add(u3.im));
-        // `-i (u2 - u3)`: `(im, -re)` of `u2 - u3`.
-        let (dre, dim) = (u2.im.wrapping_sub(u3.im), u3.re.wrapping_sub(u2.re));
-        *q0 = Self::new(are.wrapping_add(cre), aim.wrapping_add(cim));
-        *q2 = Self::new(are.wrapping_sub(cre), aim.wrapping_sub(cim));
-        let mag = q0.magnitude_bits() | q2.magnitude_bits();
-        *q1 = Self::new(bre.wrapping_add(dre), bim.wrapping_add(dim));
-        *q3 = Self::new(bre.wrapping_sub(dre), bim.wrapping_sub(dim));
-        mag | q1.magnitude_bits() | q3.magnitude_bits()
-    }
-
-    #[inline]
-    fn butterfly<const ONE: bool, const QUARTER: bool, const S: u32>(
-        a: &mut Self,
-        b: &mut Self,
-        w: (i32, i32),
-    ) -> u32 {
-        let Self { re: tre, im: tim } = twiddled::<ONE, S>(*b, w);
-        // `r t`: `-i t = (tim, -tre)`, folded into the adds (no negation to overflow).
-        let (are, aim) = (shift_round::<S>(a.re), shift_round::<S>(a.im));
-        let (plus, minus) = match QUARTER {
-            false => (
-                Self::new(are.saturating_add(tre), aim.saturating_add(tim)),
-                Self::new(are.saturating_sub(tre), aim.saturating_sub(tim)),
-            ),
-            true => (
-                Self::new(are.saturating_add(tim), aim.saturating_sub(tre)),
-                Self::new(are.saturating_sub(tim), aim.saturating_add(tre)),
-            ),
-        };
-        *a = plus;
-        *b = minus;
-        plus.magnitude_bits() | minus.magnitude_bits()
-    }
-}
-
-impl<const C: usize> Lanes for [Complex; C] {
-    #[inline]
-    fn butterfly<const ONE: bool, const QUARTER: bool, const S: u32>(
-        a: &mut Self,
-        b: &mut Self,
-        w: (i32, i32),
-    ) -> u32 {
-        a.iter_mut().zip(b.iter_mut()).fold(0, |mag, (a, b)| {
-            mag | Complex::butterfly::<ONE, QUARTER, S>(a, b, w)
-        })
-    }
-
-    #[inline]
-    fn butterfly4<const ONE: bool, const S: u32>(
-        [q0, q1, q2, q3]: [&mut Self; 4],
-        w: &[(i32, i32); 3],
-    ) -> u32 {
-        let mut mag = 0;
-        let (mut i0, mut i1, mut i2, mut i3) =
-            (q0.iter_mut(), q1.iter_mut(), q2.iter_mut(), q3.iter_mut());
-        while let (Some(a0), Some(a1), Some(a2), Some(a3)) =
-            (i0.next(), i1.next(), i2.next(), i3.next())
-        {
-            mag |= Complex::butterfly4::<ONE, S>([a0, a1, a2, a3], w);
+impl Shift {
+    fn new(s: u32) -> Self {
+        let s = s.clamp(1, 3);
+        Self {
+            s,
+            half: 1 << (s - 1),
+            product_half: 1 << (30 + s),
         }
-        mag
     }
+
+    /// `x / 2^s`, rounded to nearest (half up; `i32::MAX` rounds down).
+    #[inline(always)]
+    fn round(self, x: i32) -> i32 {
+        x.saturating_add(self.half) >> self.s
+    }
+
+    /// `x / 2^s`, rounded to nearest, ties toward zero (as a product by the twiddle
+    /// table's 1, `1 - 2^-31`, would round): unbiased, where ties up would add a bias to
+    /// every sum with a [`Shift::round`]ed value.
+    #[inline(always)]
+    fn round_to_zero(self, x: i32) -> i32 {
+        x.saturating_add(self.half - 1 - (x >> 31)) >> self.s
+    }
+}
+
+/// `w b` (`w = cos - i sin`, Q31, `nsin = -sin`), each part rounded (half up), without a
+/// shift: for parts of at most `2^29`, doubled, the high word of the 64-bit sum of
+/// products, plus the low word's top bit (`smull`, `smlal`, an add).
+#[inline(always)]
+fn rotated(b: Complex, (cos, sin, nsin): (i32, i32, i32)) -> Complex {
+    let (x, y) = (i64::from(b.re << 1), i64::from(b.im << 1));
+    let (cos, sin, nsin) = (i64::from(cos), i64::from(sin), i64::from(nsin));
+    let high = |p: i64| ((p >> 32) as i32).wrapping_add((p as u32 >> 31) as i32);
+    Complex::new(high(x * cos + y * sin), high(y * cos + x * nsin))
+}
+
+/// `w b / 2^s` (`w = cos - i sin`, Q31, `nsin = -sin`), each part rounded (half up), for
+/// parts of at most `2^31`: `|.| <= sqrt 2 2^31 / 2^s`.
+#[inline(always)]
+fn rotated_shifted(b: Complex, (cos, sin, nsin): (i32, i32, i32), shift: Shift) -> Complex {
+    let (x, y) = (i64::from(b.re), i64::from(b.im));
+    let (cos, sin, nsin) = (i64::from(cos), i64::from(sin), i64::from(nsin));
+    // The sum rounded, then `>> 32` and `>> (s - 1)`: a 64-bit shift by 31 + s.
+    let round = |p: i64| (((p + shift.product_half) >> 32) as i32) >> (shift.s - 1);
+    Complex::new(round(x * cos + y * sin), round(y * cos + x * nsin))
+}
+
+/// `b` times the twiddle `w` (exactly 1 if `ONE`), divided by `2^s` if `SHIFTED`.
+#[inline(always)]
+fn twiddled<const ONE: bool, const SHIFTED: bool>(
+    b: Complex,
+    w: (i32, i32, i32),
+    shift: Shift,
+) -> Complex {
+    match (ONE, SHIFTED) {
+        (true, true) => Complex::new(shift.round_to_zero(b.re), shift.round_to_zero(b.im)),
+        (true, false) => b,
+        (false, true) => rotated_shifted(b, w, shift),
+        (false, false) => rotated(b, w),
+    }
+}
+
+/// A twiddle `(cos, sin)` with `-sin`.
+#[inline(always)]
+fn with_neg((cos, sin): (i32, i32)) -> (i32, i32, i32) {
+    (cos, sin, sin.wrapping_neg())
+}
+
+/// Where a kernel works in `data`: in every group of `stride` values, the `len` values
+/// from `first` (`lo`) and the `len` values `apart` further on (`hi`).
+#[derive(Clone, Copy)]
+struct Runs {
+    first: usize,
+    len: usize,
+    apart: usize,
+    stride: usize,
+}
+
+impl Runs {
+    /// The pairs of runs `(lo, hi)` of every group.
+    #[inline(always)]
+    fn of(self, data: &mut [Complex]) -> impl Iterator<Item = (&mut [Complex], &mut [Complex])> {
+        data.chunks_exact_mut(self.stride.max(1))
+            .filter_map(move |group| {
+                let (lo, hi) = group.split_at_mut((self.first + self.apart).min(group.len()));
+                let lo = lo.get_mut(self.first..)?.get_mut(..self.len)?;
+                Some((lo, hi.get_mut(..self.len)?))
+            })
+    }
+}
+
+/// The radix-2 butterflies of the runs `at` of `data`, `(a, b) <- (a + r w b, a - r w b)`
+/// for `a` in `lo` and `b` in `hi`, divided by `2^s` (rounded) if `SHIFTED`, with
+/// `w = cos - i sin` (`w = 1` exactly if `ONE`) and `r = 1`, or if `QUARTER` the quarter
+/// turn `-i` (the twiddle `N/4` further on); the outputs' magnitude bits ORed if
+/// `SCANNED`, else 0. Each output below `1.3e9` (module doc): the adds wrap nowhere.
+#[inline(never)]
+fn butterflies<const ONE: bool, const QUARTER: bool, const SHIFTED: bool, const SCANNED: bool>(
+    data: &mut [Complex],
+    at: Runs,
+    w: (i32, i32),
+    shift: Shift,
+) -> u32 {
+    let w = with_neg(w);
+    let mut mag = 0;
+    for (lo, hi) in at.of(data) {
+        for (a, b) in lo.iter_mut().zip(hi) {
+            let t = twiddled::<ONE, SHIFTED>(*b, w, shift);
+            let u = match SHIFTED {
+                true => Complex::new(shift.round(a.re), shift.round(a.im)),
+                false => *a,
+            };
+            // `-i t = (tim, -tre)`, folded into the adds.
+            let (tre, tim) = match QUARTER {
+                false => (t.re, t.im),
+                true => (t.im, t.re.wrapping_neg()),
+            };
+            *a = Complex::new(u.re.wrapping_add(tre), u.im.wrapping_add(tim));
+            *b = Complex::new(u.re.wrapping_sub(tre), u.im.wrapping_sub(tim));
+            if SCANNED {
+                mag |= a.magnitude_bits() | b.magnitude_bits();
+            }
+        }
+    }
+    mag
+}
+
+/// `(c, d) <- (u + v, u - v)` for `u = w c`, `v = x d` (`c` in `lo`, `d` in `hi` of the
+/// runs `at`; `w`, `x` twiddles as [`butterflies`] takes them, both 1 exactly if `ONE`),
+/// divided by `2^s` if `SHIFTED`: the sum and difference of the third and fourth twiddled
+/// terms of radix-4 butterflies.
+#[inline(never)]
+fn twiddled_pairs<const ONE: bool, const SHIFTED: bool>(
+    data: &mut [Complex],
+    at: Runs,
+    (w, x): ((i32, i32), (i32, i32)),
+    shift: Shift,
+) {
+    let (w, x) = (with_neg(w), with_neg(x));
+    for (lo, hi) in at.of(data) {
+        for (c, d) in lo.iter_mut().zip(hi) {
+            let u = twiddled::<ONE, SHIFTED>(*c, w, shift);
+            let v = twiddled::<ONE, SHIFTED>(*d, x, shift);
+            *c = Complex::new(u.re.wrapping_add(v.re), u.im.wrapping_add(v.im));
+            *d = Complex::new(u.re.wrapping_sub(v.re), u.im.wrapping_sub(v.im));
+        }
+    }
+}
+
+/// A [`butterflies`] kernel.
+type Run = fn(&mut [Complex], Runs, (i32, i32), Shift) -> u32;
+
+/// A [`twiddled_pairs`] kernel.
+type Pairs = fn(&mut [Complex], Runs, ((i32, i32), (i32, i32)), Shift);
+
+/// The [`butterflies`] of a stage in `MODE`: shifting and scanning as it says.
+const fn run<const ONE: bool, const QUARTER: bool, const MODE: Mode>() -> Run {
+    match MODE {
+        FAST => butterflies::<ONE, QUARTER, false, false>,
+        SCAN => butterflies::<ONE, QUARTER, false, true>,
+        _ => butterflies::<ONE, QUARTER, true, true>,
+    }
+}
+
+/// One radix-2 stage over `data`, items of `lanes` values (row-major), butterflies
+/// `half_lanes / lanes` items apart (`half`): the outputs' magnitude bits ORed (0 if
+/// `MODE` is [`FAST`]). The butterfly `j + half / 2` of a group takes the twiddle of `j`
+/// turned by a quarter, and those of `j = 0` and `half / 2` do not multiply.
+fn stage<const MODE: Mode>(data: &mut [Complex], half_lanes: usize, lanes: usize, s: u32) -> u32 {
+    let (lanes, shift) = (lanes.max(1), Shift::new(s));
+    let half = half_lanes / lanes;
+    // `W^j` of the stage's `2 half` points for `0 < j < half / 2`.
+    let twiddles = TWIDDLES.get(half / 2 + 1..half).unwrap_or_default();
+    let one = (0, 0);
+    let at = |j: usize| Runs {
+        first: j * lanes,
+        len: lanes,
+        apart: half_lanes,
+        stride: 2 * half_lanes,
+    };
+    if half == 1 {
+        return run::<true, false, MODE>()(data, at(0), one, shift);
+    }
+    let quarter = half / 2;
+    let mut mag = run::<true, false, MODE>()(data, at(0), one, shift);
+    mag |= run::<true, true, MODE>()(data, at(quarter), one, shift);
+    for (j, &w) in (1..).zip(twiddles) {
+        mag |= run::<false, false, MODE>()(data, at(j), w, shift);
+        mag |= run::<false, true, MODE>()(data, at(quarter + j), w, shift);
+    }
+    mag
+}
+
+/// One radix-4 stage over `data`, items of `lanes` values, quarters of `h = h_lanes /
+/// lanes` items, `h >= 2` (the radix-2 stages `h` and `2 h` apart at once): the outputs'
+/// magnitude bits ORed (0 if `MODE` is [`FAST`]).
+///
+/// The butterflies of the quarters `q` (`w` = `W^j, W^2j, W^3j`): `u = (q0, W^2j q1,
+/// W^j q2, W^3j q3) / 2^s`, rounded, then `q0 = u0 + u1 + u2 + u3`, `q1 = u0 - u1 -
+/// i (u2 - u3)`, `q2 = u0 + u1 - u2 - u3`, `q3 = u0 - u1 + i (u2 - u3)`, in two passes
+/// of two quarters each (a loop over four runs of values takes more registers than the
+/// core has): `(q0, q1) <- (u0 + u1, u0 - u1)`, `(q2, q3) <- (u2 + u3, u2 - u3)`, then
+/// the sums. The terms are at most `sqrt 2 2^28 + 1/2`, the sums of four of them below
+/// `1.5e9` (module doc): the adds wrap nowhere.
+fn stage4<const MODE: Mode>(data: &mut [Complex], h_lanes: usize, lanes: usize, s: u32) -> u32 {
+    let (lanes, shift) = (lanes.max(1), Shift::new(s));
+    let h = h_lanes / lanes;
+    let first = h.saturating_sub(2) / 3;
+    let twiddles = TWIDDLES4.get(first + 1..first + h).unwrap_or_default();
+    let (first01, rest01, first23, rest23): (Run, Run, Pairs, Pairs) = match MODE == SHIFT {
+        false => (
+            butterflies::<true, false, false, false>,
+            butterflies::<false, false, false, false>,
+            twiddled_pairs::<true, false>,
+            twiddled_pairs::<false, false>,
+        ),
+        true => (
+            butterflies::<true, false, true, false>,
+            butterflies::<false, false, true, false>,
+            twiddled_pairs::<true, true>,
+            twiddled_pairs::<false, true>,
+        ),
+    };
+    let one = (0, 0);
+    // Items `j` of the quarters `k` and `k + 1`.
+    let at = |k: usize, j: usize| Runs {
+        first: k * h_lanes + j * lanes,
+        len: lanes,
+        apart: h_lanes,
+        stride: 4 * h_lanes,
+    };
+    first01(data, at(0, 0), one, shift);
+    first23(data, at(2, 0), (one, one), shift);
+    for (j, w) in (1..).zip(twiddles) {
+        rest01(data, at(0, j), w[1], shift);
+        rest23(data, at(2, j), (w[0], w[2]), shift);
+    }
+    // `(u0 + u1) +- (u2 + u3)`, `(u0 - u1) -+ i (u2 - u3)`.
+    let quarters = |k: usize| Runs {
+        first: k * h_lanes,
+        len: h_lanes,
+        apart: 2 * h_lanes,
+        stride: 4 * h_lanes,
+    };
+    let (sums, turned): (Run, Run) = match MODE {
+        FAST => (run::<true, false, FAST>(), run::<true, true, FAST>()),
+        _ => (run::<true, false, SCAN>(), run::<true, true, SCAN>()),
+    };
+    sums(data, quarters(0), one, shift) | turned(data, quarters(1), one, shift)
+}
+
+/// A bound on the magnitude bits of a stage's outputs from `mag`, a bound on its inputs'
+/// (or their OR), and its shift `s`: a radix-2 butterfly grows a part by at most
+/// `1 + sqrt 2 < 5/2`, a radix-4 one by at most `1 + 3 sqrt 2 < 21/4`, and the roundings
+/// add less than 2 to each input and 1 to each output. `u32::MAX` where it would not fit
+/// (no stage is then proved shift-free).
+#[inline]
+fn grown(mag: u32, s: u32, radix4: bool) -> u32 {
+    let inputs = (mag >> s).saturating_add(2);
+    match (radix4, inputs < 1 << 27) {
+        (true, true) => inputs * 21 / 4 + 1,
+        (false, true) => inputs * 5 / 2 + 1,
+        (_, false) => u32::MAX,
+    }
+}
+
+/// Whether the stage at `k` of a transform of `2^log2` points is a radix-4 one.
+fn is_radix4(k: i32, log2: i32) -> bool {
+    k > 0 && k + 2 <= log2
+}
+
+/// The stages from `k` on of the transforms of the columns of `data` (`lanes` values an
+/// item, blocks of `2^log2` items, bit-reversed), sharing one block exponent. `mag`: the inputs'
+/// magnitude bits ORed. `next`: what follows, a radix-2 stage reading the outputs'
+/// magnitude bits (`true`, the columns' transform after the rows') or nothing. Returns
+/// the shifts applied and the outputs' magnitude bits (if `next`) or a bound on them.
+///
+/// A stage shifts by what its inputs' magnitude bits say; a stage whose outputs' bound
+/// ([`grown`]) proves that the next does not shift skips their scan ([`FAST`]).
+fn stages(
+    data: &mut [Complex],
+    (log2, mut k): (i32, i32),
+    lanes: usize,
+    mut mag: u32,
+    next: bool,
+) -> (i32, u32) {
+    let mut shifts = 0;
+    // Butterflies `2^k` items apart (`half`, `h`), from the stage `k` given.
+    while k < log2 {
+        let radix4 = is_radix4(k, log2);
+        let s = match radix4 {
+            true => stage_shift4(mag),
+            false => stage_shift(mag),
+        };
+        let after = k + 1 + radix4 as i32;
+        let bound = grown(mag, s, radix4);
+        // The shift the next stage's inputs could need at most.
+        let next_shift = match (after < log2, next) {
+            (true, _) if is_radix4(after, log2) => stage_shift4(bound),
+            (true, _) | (false, true) => stage_shift(bound),
+            (false, false) => 0,
+        };
+        let fast = s == 0 && next_shift == 0;
+        let apart = lanes << k;
+        let out = match (radix4, fast, s) {
+            (true, true, _) => stage4::<FAST>(data, apart, lanes, s),
+            (true, false, 0) => stage4::<SCAN>(data, apart, lanes, s),
+            (true, false, _) => stage4::<SHIFT>(data, apart, lanes, s),
+            (false, true, _) => stage::<FAST>(data, apart, lanes, s),
+            (false, false, 0) => stage::<SCAN>(data, apart, lanes, s),
+            (false, false, _) => stage::<SHIFT>(data, apart, lanes, s),
+        };
+        mag = match fast {
+            true => bound,
+            false => out,
+        };
+        shifts += s as i32;
+        k = after;
+    }
+    (shifts, mag)
 }
 
 /// The magnitude bits of every value, ORed.
@@ -382,139 +595,216 @@ impl<const N: usize> BitReversal<N> {
     };
 }
 
-/// Swaps each item with the one at its bit-reversed index.
-fn bit_reverse<T, const N: usize>(items: &mut [T; N]) {
+/// Swaps each item (`lanes` values) of every block of `N` items of `data` with the one at
+/// its bit-reversed index.
+fn bit_reverse<const N: usize>(data: &mut [Complex], lanes: usize) {
     let (table, count) = &BitReversal::<N>::SWAPS;
-    for &(i, j) in table.get(..*count).unwrap_or_default() {
-        if let Some((lo, hi)) = items.split_at_mut_checked(j as usize) {
-            if let (Some(a), Some(b)) = (lo.get_mut(i as usize), hi.first_mut()) {
+    let swaps = table.get(..*count).unwrap_or_default();
+    for block in data.chunks_exact_mut(N * lanes.max(1)) {
+        for &(i, j) in swaps {
+            let (lo, hi) = block.split_at_mut((j as usize * lanes).min(block.len()));
+            let lo = lo.get_mut(i as usize * lanes..).unwrap_or_default();
+            for (a, b) in lo.iter_mut().zip(hi).take(lanes) {
                 core::mem::swap(a, b);
             }
         }
     }
 }
 
-/// One stage of butterflies `half = 2^k` apart, shifting by `S`, over every array of `batch`:
-/// the outputs' magnitude bits ORed. The butterfly `j + half / 2` of a group takes the
-/// twiddle of `j` turned by a quarter, and those of `j = 0` and `half / 2` do not multiply.
-fn stage<T: Lanes, const N: usize, const S: u32>(batch: &mut [[T; N]], k: i32) -> u32 {
-    let mut mag = 0;
-    let half = 1 << k;
-    let quarter = half / 2;
-    // `W^j` of the stage's `2 half` points for `0 < j < half / 2`.
-    let twiddles = TWIDDLES.get(quarter + 1..half).unwrap_or_default();
-    for group in batch.as_flattened_mut().chunks_exact_mut(1 << (k + 1)) {
-        let Some((lo, hi)) = group.split_at_mut_checked(half) else {
-            continue;
-        };
-        if let ([a], [b]) = (&mut *lo, &mut *hi) {
-            mag |= T::butterfly::<true, false, S>(a, b, (0, 0));
-            continue;
-        }
-        let (Some((lo0, lo1)), Some((hi0, hi1))) = (
-            lo.split_at_mut_checked(quarter),
-            hi.split_at_mut_checked(quarter),
-        ) else {
-            continue;
-        };
-        if let (Some((a, lo0)), Some((b, hi0))) = (lo0.split_first_mut(), hi0.split_first_mut()) {
-            mag |= T::butterfly::<true, false, S>(a, b, (0, 0));
-            for ((a, b), w) in lo0.iter_mut().zip(hi0).zip(twiddles) {
-                mag |= T::butterfly::<false, false, S>(a, b, *w);
-            }
-        }
-        if let (Some((a, lo1)), Some((b, hi1))) = (lo1.split_first_mut(), hi1.split_first_mut()) {
-            mag |= T::butterfly::<true, true, S>(a, b, (0, 0));
-            for ((a, b), w) in lo1.iter_mut().zip(hi1).zip(twiddles) {
-                mag |= T::butterfly::<false, true, S>(a, b, *w);
-            }
-        }
-    }
-    mag
+/// An item of a transform: one value, or a row of them (the columns of a grid, all at
+/// once).
+trait Lanes: Sized {
+    /// The values of `items`, item after item.
+    fn flat(items: &mut [Self]) -> &mut [Complex];
+
+    /// `f` on the same lane of the four items `q`, lane by lane.
+    fn each4(q: [&mut Self; 4], f: impl FnMut([&mut Complex; 4]));
+
+    /// Swaps the items `i < j` of `items` (nothing where either is missing).
+    fn swap(items: &mut [Self], i: usize, j: usize);
 }
 
-/// One radix-4 stage, quarters of `h = 2^k` points, `k > 0` (the radix-2 stages `h` and
-/// `2 h` apart at once), shifting by `S`, over every array of `batch`: the outputs'
-/// magnitude bits ORed.
-fn stage4<T: Lanes, const N: usize, const S: u32>(batch: &mut [[T; N]], k: i32) -> u32 {
-    let mut mag = 0;
-    let h = 1 << k;
-    let twiddles = TWIDDLES4
-        .get((h - 2) / 3 + 1..(h - 2) / 3 + h)
-        .unwrap_or_default();
-    for group in batch.as_flattened_mut().chunks_exact_mut(1 << (k + 2)) {
-        let Some((lo, hi)) = group.split_at_mut_checked(2 * h) else {
-            continue;
-        };
-        let (Some((q0, q1)), Some((q2, q3))) =
-            (lo.split_at_mut_checked(h), hi.split_at_mut_checked(h))
-        else {
-            continue;
-        };
-        let (Some((a0, q0)), Some((a1, q1)), Some((a2, q2)), Some((a3, q3))) = (
-            q0.split_first_mut(),
-            q1.split_first_mut(),
-            q2.split_first_mut(),
-            q3.split_first_mut(),
-        ) else {
-            continue;
-        };
-        mag |= T::butterfly4::<true, S>([a0, a1, a2, a3], &[(0, 0); 3]);
-        let quarters = q0
-            .iter_mut()
-            .zip(q1.iter_mut())
-            .zip(q2.iter_mut().zip(q3.iter_mut()));
-        for (((a0, a1), (a2, a3)), w) in quarters.zip(twiddles) {
-            mag |= T::butterfly4::<false, S>([a0, a1, a2, a3], w);
+impl Lanes for Complex {
+    fn flat(items: &mut [Self]) -> &mut [Complex] {
+        items
+    }
+
+    #[inline(always)]
+    fn each4(q: [&mut Self; 4], mut f: impl FnMut([&mut Complex; 4])) {
+        f(q)
+    }
+
+    #[inline(always)]
+    fn swap(items: &mut [Self], i: usize, j: usize) {
+        if let (Some(&a), Some(&b)) = (items.get(i), items.get(j)) {
+            if let Some(x) = items.get_mut(i) {
+                *x = b;
+            }
+            if let Some(x) = items.get_mut(j) {
+                *x = a;
+            }
         }
     }
-    mag
 }
 
-/// The transforms of every array of `batch` (decimation in time: bit reversal, then
-/// `log2 N` stages), sharing one block exponent. `mag`: the inputs' magnitude bits ORed.
-/// Returns the shifts applied and the outputs' magnitude bits.
-fn transform<T: Lanes, const N: usize>(batch: &mut [[T; N]], mut mag: u32) -> (i32, u32) {
-    for items in batch.iter_mut() {
-        bit_reverse(items);
+impl<const L: usize> Lanes for [Complex; L] {
+    fn flat(items: &mut [Self]) -> &mut [Complex] {
+        items.as_flattened_mut()
     }
-    // Radix 2 for butterflies 1 apart, radix 4 for `2, 4`, `8, 16` apart, and radix 2
-    // for the last stage if one is left (`N` = 4, 16 or 64).
-    let mut shifts = 0;
-    // Butterflies `2^k` apart (`half`, `h`): `1 << k` is never 0, so the chunk sizes have
-    // no zero to panic on.
-    let mut k = 0;
-    while k < log2_points::<N>() {
-        let (s, next);
-        (s, mag, next) = if k > 0 && k + 2 <= log2_points::<N>() {
-            let s = stage_shift4(mag);
-            let mag = match s {
-                0 => stage4::<T, N, 0>(batch, k),
-                1 => stage4::<T, N, 1>(batch, k),
-                2 => stage4::<T, N, 2>(batch, k),
-                _ => stage4::<T, N, 3>(batch, k),
-            };
-            (s, mag, k + 2)
-        } else {
-            let s = stage_shift(mag);
-            let mag = match s {
-                0 => stage::<T, N, 0>(batch, k),
-                1 => stage::<T, N, 1>(batch, k),
-                _ => stage::<T, N, 2>(batch, k),
-            };
-            (s, mag, k + 1)
+
+    #[inline(always)]
+    fn each4([q0, q1, q2, q3]: [&mut Self; 4], mut f: impl FnMut([&mut Complex; 4])) {
+        for l in 0..L {
+            if let (Some(a), Some(b), Some(c), Some(d)) =
+                (q0.get_mut(l), q1.get_mut(l), q2.get_mut(l), q3.get_mut(l))
+            {
+                f([a, b, c, d])
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn swap(items: &mut [Self], i: usize, j: usize) {
+        if let Some((lo, [b, ..])) = items.split_at_mut_checked(j) {
+            if let Some(a) = lo.get_mut(i) {
+                for (a, b) in a.iter_mut().zip(b) {
+                    core::mem::swap(a, b);
+                }
+            }
+        }
+    }
+}
+
+/// `a +- b`, wrapping (in range wherever it is used).
+#[inline(always)]
+fn sum_difference(a: Complex, b: Complex) -> (Complex, Complex) {
+    (
+        Complex::new(a.re.wrapping_add(b.re), a.im.wrapping_add(b.im)),
+        Complex::new(a.re.wrapping_sub(b.re), a.im.wrapping_sub(b.im)),
+    )
+}
+
+/// `-i v`.
+#[inline(always)]
+fn turned(v: Complex) -> Complex {
+    Complex::new(v.im, v.re.wrapping_neg())
+}
+
+/// The first two stages of a transform (butterflies 1 apart, then 2 apart) of the 4
+/// bit-reversed values `v`, for values that cannot shift there: exact adds,
+/// `(s01 +- s23, d01 -+ i d23)`.
+#[inline(always)]
+fn four([a, b, c, d]: [&mut Complex; 4]) {
+    let ((s01, d01), (s23, d23)) = (sum_difference(*a, *b), sum_difference(*c, *d));
+    (*a, *c) = sum_difference(s01, s23);
+    (*b, *d) = sum_difference(d01, turned(d23));
+}
+
+/// The first three stages of a transform (butterflies 1 apart, then the radix-4 stage of
+/// quarters 2 apart) of the 8 bit-reversed items `x`, for values whose shifts those
+/// stages and the next would all choose 0 ([`FAST`]): then only two of its products
+/// round, `W^1 d45` and `W^3 d67`, the twiddle `W^2 = -i` and every sum are exact, and
+/// the three stages are the same arithmetic in three passes over the values, not seven.
+#[inline(never)]
+fn eight<T: Lanes>(x: &mut [T; 8]) {
+    // `W^1` and `W^3` of 8 points (`j = 1` of the quarters of 2), read at run time: as
+    // constants, the compiler factors `cos = sin` out of the two products into a longer
+    // 64-bit one.
+    let w = core::hint::black_box(&TWIDDLES4[1]);
+    let (w1, w3) = (with_neg(w[0]), with_neg(w[2]));
+    // Each pass reads its values from memory: of one item a lane (a 1-D transform), the
+    // compiler would otherwise keep all 8 in more registers than there are.
+    let [x0, x1, x2, x3, _, _, _, _] = core::hint::black_box(&mut *x);
+    T::each4([x0, x1, x2, x3], four);
+    let [_, _, _, _, x4, x5, x6, x7] = core::hint::black_box(&mut *x);
+    // Items 4 to 7: `(s45 +- s67, W^1 d45 +- W^3 d67)`.
+    T::each4([x4, x5, x6, x7], |[a, b, c, d]| {
+        let ((s45, d45), (s67, d67)) = (sum_difference(*a, *b), sum_difference(*c, *d));
+        (*a, *c) = sum_difference(s45, s67);
+        (*b, *d) = sum_difference(rotated(d45, w1), rotated(d67, w3));
+    });
+    // The radix-4 sums: `(u0 + u1) +- (u2 + u3)`, `(u0 - u1) -+ i (u2 - u3)`.
+    let [x0, x1, _, _, x4, x5, _, _] = core::hint::black_box(&mut *x);
+    T::each4([x0, x1, x4, x5], |[a, b, c, d]| {
+        (*a, *c) = sum_difference(*a, *c);
+        (*b, *d) = sum_difference(*b, *d);
+    });
+    let [_, _, x2, x3, _, _, x6, x7] = core::hint::black_box(&mut *x);
+    T::each4([x2, x3, x6, x7], |[a, b, c, d]| {
+        (*a, *c) = sum_difference(*a, turned(*c));
+        (*b, *d) = sum_difference(*b, turned(*d));
+    });
+}
+
+/// Swaps each of the `N` items with the one at its bit-reversed index.
+fn reverse<T: Lanes, const N: usize>(items: &mut [T; N]) {
+    let (table, count) = &BitReversal::<N>::SWAPS;
+    for &(i, j) in table.get(..*count).unwrap_or_default() {
+        T::swap(items, i.into(), j.into());
+    }
+}
+
+/// The `N`-point transforms of the columns of `items` (blocks of `N` items, bit-reversed
+/// already), sharing one block exponent; `mag` and `next` as [`stages`] takes them. Where
+/// the headroom proves that the first three stages and the next need no shift, [`eight`]
+/// takes those three.
+fn transform<T: Lanes, const N: usize>(
+    items: &mut [T],
+    lanes: usize,
+    mag: u32,
+    next: bool,
+) -> (i32, u32) {
+    let log2 = log2_points::<N>();
+    // The bounds after the radix-2 stage, then the radix-4 one.
+    let first = grown(mag, 0, false);
+    let bound = grown(first, 0, true);
+    let after = match (log2, next) {
+        (3, false) => 0,
+        (3, true) => stage_shift(bound),
+        _ if is_radix4(3, log2) => stage_shift4(bound),
+        _ => stage_shift(bound),
+    };
+    if log2 >= 3 && stage_shift(mag) == 0 && stage_shift4(first) == 0 && after == 0 {
+        for group in items.chunks_exact_mut(8) {
+            if let Ok(group) = <&mut [T; 8]>::try_from(group) {
+                eight(group);
+            }
+        }
+        return match log2 {
+            3 => (0, bound),
+            _ => stages(T::flat(items), (log2, 3), lanes, bound, next),
         };
-        shifts += s as i32;
-        k = next;
     }
-    (shifts, mag)
+    // 4 points: the two stages, and the next if any, shift-free.
+    let after = match next {
+        true => stage_shift(grown(first, 0, false)),
+        false => 0,
+    };
+    if log2 == 2 && stage_shift(mag) == 0 && stage_shift(first) == 0 && after == 0 {
+        for group in items.chunks_exact_mut(4) {
+            if let [a, b, c, d] = group {
+                T::each4([a, b, c, d], four);
+            }
+        }
+        return (0, grown(first, 0, false));
+    }
+    stages(T::flat(items), (log2, 0), lanes, mag, next)
+}
+
+/// The `N`-point transforms of the columns of `data`, blocks of `N` items of `lanes`
+/// values (row-major), sharing one block exponent; `mag` and `next` as [`stages`] takes
+/// them.
+fn columns<const N: usize>(data: &mut [Complex], lanes: usize, mag: u32, next: bool) -> (i32, u32) {
+    bit_reverse::<N>(data, lanes);
+    stages(data, (log2_points::<N>(), 0), lanes, mag, next)
 }
 
 /// Forward transform of `data` in place; returns the block exponent `e` (the exact
 /// transform is the output times `2^e`, `0 <= e <= 2 log2 N`).
 pub fn forward<const N: usize>(data: &mut [Complex; N]) -> i32 {
     let mag = magnitude_bits(data);
-    transform::<Complex, N>(core::slice::from_mut(data), mag).0
+    reverse::<Complex, N>(data);
+    transform::<Complex, N>(data, 1, mag, false).0
 }
 
 /// The values of `row` at `0, N - 1, N - 2, .., 1`: bin `N - k` (mod `N`) of a spectrum
@@ -555,24 +845,60 @@ fn conjugate(data: &mut [Complex]) {
     }
 }
 
-/// The rows' transforms, then the columns', of `data`: the shifts of both. A square grid's
-/// rows are transformed as the columns of its transpose, the same arithmetic in fewer
-/// instructions (a butterfly of columns runs along two whole rows with one twiddle): at
-/// 32 x 32, 170,720 with the two transposes against 177,680 row by row.
+/// The rows' transforms, then the columns', of `data`: the shifts of both.
+///
+/// A square grid is transformed along its columns both times, a butterfly running along
+/// two whole rows with one twiddle: [`reverse_transposed`] leaves each row's bit-reversed
+/// values in a column (and scans the grid), the rows' transforms follow as the columns',
+/// a transpose leaves their rows bit-reversed as the columns' transforms take them, and
+/// those give the spectrum in place. Another grid takes the rows' transforms one row at a
+/// time.
 fn transform_2d<const R: usize, const C: usize>(data: &mut [[Complex; C]; R]) -> i32 {
-    let mag = magnitude_bits(data.as_flattened());
-    let square: Option<&mut [[Complex; R]; C]> = (data as &mut dyn Any).downcast_mut();
-    let (rows, mag) = match square {
+    let square: Option<&mut [[Complex; C]; C]> = (data as &mut dyn Any).downcast_mut();
+    let (rows, cols) = match square {
         Some(grid) => {
+            let mag = reverse_transposed(grid);
+            let (rows, mag) = transform::<[Complex; C], C>(grid, C, mag, true);
             transpose(grid);
-            let rows = transform::<[Complex; R], C>(core::slice::from_mut(grid), mag);
-            transpose(grid);
-            rows
+            (rows, transform::<[Complex; C], C>(grid, C, mag, false).0)
         }
-        None => transform::<Complex, C>(data, mag),
+        None => {
+            let mag = magnitude_bits(data.as_flattened());
+            let (rows, mag) = columns::<C>(data.as_flattened_mut(), 1, mag, true);
+            (rows, columns::<R>(data.as_flattened_mut(), C, mag, false).0)
+        }
     };
-    let (cols, _) = transform::<[Complex; C], R>(core::slice::from_mut(data), mag);
     rows + cols
+}
+
+/// `i` with its `N.trailing_zeros()` low bits reversed (`N` a power of two, at least 2).
+#[inline(always)]
+fn reversed<const N: usize>(i: usize) -> usize {
+    ((i as u32).reverse_bits() >> (u32::BITS - N.trailing_zeros()).min(31)) as usize
+}
+
+/// Swaps `grid[r][rev c]` and `grid[c][rev r]` for every `c < r` (`rev` the bit reversal
+/// of `log2 N` bits), leaving `grid[r][rev r]`: the transpose of the grid with both
+/// indices bit-reversed, `grid[rev c][rev r]` now holding what `grid[r][c]` held. Returns
+/// the magnitude bits of every value ORed.
+fn reverse_transposed<const N: usize>(grid: &mut [[Complex; N]; N]) -> u32 {
+    let mut mag = 0;
+    for r in 0..N {
+        let Some((above, [row, ..])) = grid.split_at_mut_checked(r) else {
+            continue;
+        };
+        let rr = reversed::<N>(r);
+        if let Some(v) = row.get(rr) {
+            mag |= v.magnitude_bits();
+        }
+        for (c, upper) in above.iter_mut().enumerate() {
+            if let (Some(a), Some(b)) = (row.get_mut(reversed::<N>(c)), upper.get_mut(rr)) {
+                core::mem::swap(a, b);
+                mag |= a.magnitude_bits() | b.magnitude_bits();
+            }
+        }
+    }
+    mag
 }
 
 /// Transposes a square grid in place (`R = C`; of another grid, swaps `[i][j]` and
