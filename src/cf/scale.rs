@@ -30,10 +30,12 @@
 //!   saturating).
 //! - Label: Q16 from [`exp_neg`] (peak 65,535), its spectrum `|Y| <= S 2^16`, Q16.
 //! - Pair numerators `P_p`: the Q37 products `Y_k Z_p,S-k` rounded to Q17 (`>> 20`), `i32`,
-//!   `|P| <= sqrt 2 S^2 2^17 <= 2^29.5`.
-//! - Denominator `B`: Q42, `i64`, `<= D S^2 2^42 < 2^62.2`; `lambda` (Q0.32) raised to Q42.
+//!   `|P| <= sqrt 2 S^2 2^17 <= 2^29.5`: learning blends them without a clamp (a blend
+//!   lies between its old and new values).
+//! - Denominator `B`: Q42, `i64`, `<= D S^2 2^42 < 2^62.2` (its sums of `|Z|^2` need no
+//!   saturation); `lambda` (Q0.32) raised to Q42.
 //! - `U_k + conj(U_S-k)`: each product Q38 floored to Q30 (`>> 8`), `<= 2^49`, the sum
-//!   `<= 2^58.2`, `i64` (accumulated saturating all the same); twice the response's
+//!   `<= 2^58.2`, `i64` (accumulated without saturation); twice the response's
 //!   spectrum, so the quotient below shifts one bit less.
 //! - Quotient by `B + lambda`: Q16 saturated to `i32` (in `i128`), inverse transform, the
 //!   block exponent applied: the response, Q16 (about 1 at the peak for the trained
@@ -389,12 +391,17 @@ impl<const S: usize> ScaleFilter<S> {
     /// The response to the samples: keeps it and the best sample; returns its factor.
     fn answer(&mut self) -> Q16 {
         // U_k = sum_p P_p,k conj(Z_p,S-k); then 2 sum_d A_d,k X_d,k = U_k + conj(U_S-k).
+        // Each product below 2^57.5 floored to Q30 (`>> 8`), the sums below 2^58.2 (module
+        // doc): they wrap nowhere.
         let mut u = [(0i64, 0i64); S];
         for (z, a) in self.samples.iter().zip(&self.num).take(self.pairs) {
-            for ((t, w), a) in u.iter_mut().zip(mirrored(z)).zip(a) {
+            for (k, t) in u.iter_mut().enumerate() {
+                let (Some(w), Some(a)) = (z.get(S.wrapping_sub(k) & (S - 1)), a.get(k)) else {
+                    continue;
+                };
                 let p = |u: i32, v: i32| (i64::from(u) * i64::from(v)) >> SUM_SHIFT;
-                t.0 = t.0.saturating_add(p(a.re, w.re) + p(a.im, w.im));
-                t.1 = t.1.saturating_add(p(a.im, w.re) - p(a.re, w.im));
+                t.0 = t.0.wrapping_add(p(a.re, w.re) + p(a.im, w.im));
+                t.1 = t.1.wrapping_add(p(a.im, w.re) - p(a.re, w.im));
             }
         }
         let mut sum = [(0i64, 0i64); S];
@@ -437,20 +444,26 @@ impl<const S: usize> ScaleFilter<S> {
     fn learn_at(&mut self, at: usize, rate: Q16) {
         let eta = rate.clamp(Q16::ZERO, Q16::ONE).to_bits();
         let y = self.label(at);
-        // Pair p's new numerator `Y conj(X_2p) + i Y conj(X_2p+1)` is `Y_k Z_p,S-k`.
+        // Pair p's new numerator `Y conj(X_2p) + i Y conj(X_2p+1)` is `Y_k Z_p,S-k`, below
+        // 2^29.5 (module doc): the blend, between the old and the new value, needs no
+        // saturation. The energies `|Z_p,k|^2` below 2^55 a pair, their sums below 2^62.2:
+        // they wrap nowhere.
         let mut energy = [0i64; S];
+        let half = 1 << (NUM_SHIFT - 1);
+        // The rate opaque: known to be at least 0, it would take longer unsigned products.
+        let eta = core::hint::black_box(eta);
         for (z, a) in self.samples.iter().zip(&mut self.num).take(self.pairs) {
-            for ((a, y), w) in a.iter_mut().zip(&y).zip(mirrored(z)) {
+            for (k, (a, (y, e))) in a.iter_mut().zip(y.iter().zip(&mut energy)).enumerate() {
+                let (Some(w), Some(v)) = (z.get(S.wrapping_sub(k) & (S - 1)), z.get(k)) else {
+                    continue;
+                };
                 let (wr, wi) = (i64::from(w.re), i64::from(w.im));
                 let (yr, yi) = (i64::from(y.re), i64::from(y.im));
-                let half = 1 << (NUM_SHIFT - 1);
-                let re = (yr * wr - yi * wi + half) >> NUM_SHIFT;
-                let im = (yr * wi + yi * wr + half) >> NUM_SHIFT;
-                *a = Complex::new(blend(a.re, re, eta), blend(a.im, im, eta));
-            }
-            for (e, z) in energy.iter_mut().zip(z) {
-                let (zr, zi) = (i64::from(z.re), i64::from(z.im));
-                *e = e.saturating_add((zr * zr).saturating_add(zi * zi));
+                let re = ((yr * wr - yi * wi + half) >> NUM_SHIFT) as i32;
+                let im = ((yr * wi + yi * wr + half) >> NUM_SHIFT) as i32;
+                *a = Complex::new(blended(a.re, re, eta), blended(a.im, im, eta));
+                let (vr, vi) = (i64::from(v.re), i64::from(v.im));
+                *e = e.wrapping_add(vr * vr + vi * vi);
             }
         }
         // sum_d |X_d,k|^2 = sum_p (|Z_p,k|^2 + |Z_p,S-k|^2) / 2.
@@ -514,12 +527,12 @@ fn rescale(data: &mut [Complex], e: i32) {
     }
 }
 
-/// `(old (1 - eta) + new eta)`, `eta` Q16 in `[0, 1]`, rounded, saturated to `i32`.
-#[inline]
-fn blend(old: i32, new: i64, eta: i32) -> i32 {
-    let new = new.clamp(i32::MIN.into(), i32::MAX.into());
-    let v = i64::from(old) * i64::from((1 << 16) - eta) + new * i64::from(eta);
-    Q16::saturate((v + (1 << 15)) >> 16).to_bits()
+/// `old (1 - eta) + new eta`, `eta` Q16 in `[0, 1]`, rounded: between `old` and `new`,
+/// so an `i32` without a clamp or saturation.
+#[inline(always)]
+fn blended(old: i32, new: i32, eta: i32) -> i32 {
+    let v = i64::from(old) * i64::from((1 << 16) - eta) + i64::from(new) * i64::from(eta);
+    ((v + (1 << 15)) >> 16) as i32
 }
 
 /// The offset of the top of the parabola through `r[at - 1..=at + 1]` from `at`, in
