@@ -87,13 +87,13 @@
 #if defined(RBT_POINTER_32)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (32-bit targets).
-#define RBT_TRACKER_CF_SIZE 71664
+#define RBT_TRACKER_CF_SIZE 91312
 #endif
 
 #if defined(RBT_POINTER_64)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_CF_SIZE 71736
+#define RBT_TRACKER_CF_SIZE 91408
 #endif
 
 // Alignment of every tracker's memory, bytes.

@@ -4,12 +4,12 @@
 //! interpolated. The scene is the reference's own: a textured disc grown by 1.06, 1.1 and
 //! 0.92.
 
-use rbtrack::cf::features::{extract, Sampling, CHANNELS};
+use rbtrack::cf::features::{Extractor, Sampling, CHANNELS};
 use rbtrack::cf::scale::{ScaleFilter, ScaleSettings};
 use rbtrack::fixed::Q16;
 use rbtrack::image::{ImageView, Rgb888};
 use rbtrack_host::cf64::fft::{Fft1, C64};
-use rbtrack_host::cf64::fhog::{features, Hog};
+use rbtrack_host::cf64::fhog::{features, Gradients, Hog};
 use rbtrack_host::cf64::image::{Resample, RgbImage};
 use rbtrack_host::cf64::scale::{self as reference, ScaleParams};
 
@@ -26,6 +26,7 @@ fn params() -> ScaleParams {
         area: 512.0,
         cell: 4,
         hog: Hog::Unsigned9,
+        gradients: Gradients::CORE,
         lambda: 1e-3,
         window: false,
         luma: true,
@@ -86,7 +87,7 @@ fn reference_rows(filter: &reference::ScaleFilter, rgb: &[u8]) -> Vec<[i16; S]> 
     for (s, &f) in filter.factors().iter().enumerate() {
         let patch =
             img(rgb).luma_patch(CENTRE, (SIZE.0 * f, SIZE.1 * f), model, Resample::Bilinear);
-        let feat = features(&patch, 4, Hog::Unsigned9, false);
+        let feat = features(&patch, 4, Hog::Unsigned9, false, Gradients::CORE);
         assert_eq!(feat.cells(), cells);
         for (d, row) in rows.iter_mut().enumerate() {
             let v = feat.channel(d % 9)[d / 9];
@@ -190,7 +191,7 @@ fn integer_rows(factors: &[Q16], rgb: &[u8]) -> Vec<[i16; S]> {
             rows: 5,
             cell: 4,
         };
-        extract(&view(rgb), &sampling, &mut cells);
+        Extractor::default().extract(&view(rgb), &sampling, &mut cells);
         for (d, row) in rows.iter_mut().enumerate() {
             row[s] = cells[d / 9][1 + d % 9];
         }
@@ -207,7 +208,14 @@ fn integer_rows(factors: &[Q16], rgb: &[u8]) -> Vec<[i16; S]> {
 fn on_the_frame_both_find_the_same_scale() {
     let base = frame(30.0);
     let mut want = reference::ScaleFilter::new(params(), &img(&base), CENTRE, SIZE);
-    let mut got = ScaleFilter::<S>::new(settings(), &view(&base), q16(CENTRE), q16(SIZE));
+    let mut extractor = Box::new(Extractor::default());
+    let mut got = ScaleFilter::<S>::new(
+        settings(),
+        &view(&base),
+        q16(CENTRE),
+        q16(SIZE),
+        &mut extractor,
+    );
     // The reference's maths on the integer features.
     let mut same = want.clone();
     let factors = *got.factors();
@@ -222,7 +230,9 @@ fn on_the_frame_both_find_the_same_scale() {
         let (i, factor) = read(&want, &want.response(&z));
         let zi = spectra(&integer_rows(&factors, &rgb));
         let (j, maths) = read(&same, &same.response(&zi));
-        let found = got.respond(&view(&rgb), q16(CENTRE), q16(SIZE)).to_f64();
+        let found = got
+            .respond(&view(&rgb), q16(CENTRE), q16(SIZE), &mut extractor)
+            .to_f64();
         println!("step {step}, grown {g}: factor {factor:.5} / {found:.5} ({maths:.5})");
         worst = worst.max((found - factor).abs());
         worst_maths = worst_maths.max((found - maths).abs());

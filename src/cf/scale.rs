@@ -24,7 +24,7 @@
 //! `U_k = sum_p P_p,k conj(Z_p,S-k)` the response's spectrum is `(U_k + conj(U_S-k)) / 2`.
 //!
 //! # Fixed-point scales
-//! - Features: Q15 from [`features::extract`] (`|x| <= 2^15`), shifted to Q21.
+//! - Features: Q15 from [`Extractor::extract`] (`|x| <= 2^15`), shifted to Q21.
 //! - Pair spectra `Z_p`: the transform of Q21 features, Q21, `|Z| <= sqrt 2 S 2^21 <=
 //!   2^27.5`: the FFT never shifts a block that small (a block exponent would be undone,
 //!   saturating).
@@ -51,7 +51,7 @@
 //! (`host-tests/tests/cf_scale.rs`). Stack: 640 bytes of cells for one sample, a few
 //! hundred more; the filter itself is 18,616 bytes for `S = 8` on a 32-bit target.
 
-use super::features::{self, Cell, Sampling, CHANNELS};
+use super::features::{Cell, Extractor, Sampling, CHANNELS};
 use crate::fft::{forward, inverse, mirrored, Complex};
 use crate::fixed::{isqrt_u64, Q16};
 use crate::image::{ImageView, PixelFormat};
@@ -98,7 +98,8 @@ pub struct ScaleSettings {
     pub lambda: u32,
     /// Largest model area, px^2 (`1..=65,536`; the model has at most [`MAX_CELLS`] cells).
     pub area: u32,
-    /// fHOG cell of the samples, px (`1..=8`).
+    /// fHOG cell of the samples, px (`2..=8`, even; [`CfConfig`](crate::tracker::CfConfig)
+    /// refuses others, and the filter rounds an odd one down).
     pub cell: usize,
     /// Read the scale between samples (the parabola through the peak and its neighbours).
     pub interpolate: bool,
@@ -124,7 +125,7 @@ impl ScaleSettings {
             ),
             sigma: self.sigma.clamp(Q16::from_bits(1 << 8), Q16::from_int(64)),
             area: self.area.clamp(1, 1 << 16),
-            cell: self.cell.clamp(1, 8),
+            cell: self.cell.clamp(2, 8) & !1,
             ..self
         }
     }
@@ -231,15 +232,16 @@ impl<const S: usize> ScaleFilter<S> {
     pub const MIDDLE: usize = S.div_ceil(2) - 1;
 
     /// A filter for a target of `size` px (width, height, Q16.16) at `centre` (px,
-    /// Q16.16), trained on `frame` there.
+    /// Q16.16), trained on `frame` there, its samples' features taken by `extractor`.
     pub fn new<P: PixelFormat>(
         settings: ScaleSettings,
         frame: &ImageView<'_, P>,
         centre: (Q16, Q16),
         size: (Q16, Q16),
+        extractor: &mut Extractor,
     ) -> Self {
         let mut filter = Self::UNSET;
-        filter.start(settings, frame, centre, size);
+        filter.start(settings, frame, centre, size, extractor);
         filter
     }
 
@@ -250,9 +252,10 @@ impl<const S: usize> ScaleFilter<S> {
         frame: &ImageView<'_, P>,
         centre: (Q16, Q16),
         size: (Q16, Q16),
+        extractor: &mut Extractor,
     ) {
         self.reset(settings, size);
-        self.sample(frame, centre, size);
+        self.sample(frame, centre, size, extractor);
         self.learn_at(Self::MIDDLE, Q16::ONE);
     }
 
@@ -275,8 +278,9 @@ impl<const S: usize> ScaleFilter<S> {
         frame: &ImageView<'_, P>,
         centre: (Q16, Q16),
         size: (Q16, Q16),
+        extractor: &mut Extractor,
     ) -> Q16 {
-        self.sample(frame, centre, size);
+        self.sample(frame, centre, size, extractor);
         self.answer()
     }
 
@@ -344,6 +348,7 @@ impl<const S: usize> ScaleFilter<S> {
         frame: &ImageView<'_, P>,
         centre: (Q16, Q16),
         size: (Q16, Q16),
+        extractor: &mut Extractor,
     ) {
         let Grid { cols, rows } = self.grid;
         let cell = self.settings.cell;
@@ -361,7 +366,7 @@ impl<const S: usize> ScaleFilter<S> {
             };
             let n = (cols * rows).min(MAX_CELLS);
             let cells = cells.get_mut(..n).unwrap_or(&mut []);
-            features::extract(frame, &sampling, cells);
+            extractor.extract(frame, &sampling, cells);
             let values = cells.iter().flat_map(|c| c.get(1..).unwrap_or(&[]));
             store(&mut self.samples, values.copied(), s);
         }

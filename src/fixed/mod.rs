@@ -28,7 +28,7 @@ mod sqrt;
 #[doc(hidden)]
 pub use div::div_u64_u32;
 #[doc(hidden)]
-pub use sqrt::{isqrt32, isqrt_u64, sqrt_q8, sqrt_u64_q8, SQRT_FRAC_BITS};
+pub use sqrt::{isqrt32, isqrt_u64, sqrt_q8, sqrt_u64_m16, sqrt_u64_q8, SQRT_FRAC_BITS};
 
 /// `2^16`, a [`Q16`]'s raw value per unit, as a float (for the float conversions).
 const SCALE: f64 = (1u32 << Q16::FRAC_BITS) as f64;

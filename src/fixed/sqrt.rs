@@ -54,6 +54,29 @@ pub fn sqrt_u64_q8(n: u64) -> u64 {
     u64::from(sqrt_q8((n >> (2 * half)) as u32)) << half
 }
 
+/// `sqrt(n)` of any `u64` as a 16-bit mantissa `m` (`2^15..2^16`) and an exponent `e`,
+/// `sqrt(n) ~ m 2^e` within a relative error of `4e-5` (`(0, 0)` for 0; the mantissa rounded down): `n` shifted
+/// left by an even amount so that its top 32 bits hold at least 31 bits, and their
+/// [`sqrt_q8`]. A few 32-bit operations, where [`sqrt_u64_q8`] shifts 64-bit values.
+#[inline]
+pub fn sqrt_u64_m16(n: u64) -> (u32, i32) {
+    // In 32-bit halves: the Cortex-M has no 64-bit shifts.
+    let (hi, lo) = ((n >> 32) as u32, n as u32);
+    let (top, k) = match hi {
+        0 if lo == 0 => return (0, 0),
+        0 => {
+            let k = lo.leading_zeros() & !1;
+            (lo << k, 32 + k)
+        }
+        _ => {
+            let k = hi.leading_zeros() & !1; // even, 0..=30
+            (hi << k | lo.checked_shr(32 - k).unwrap_or(0), k)
+        }
+    }; // top in [2^30, 2^32), n ~ top 2^(32 - k)
+    let m = (sqrt_q8(top) >> SQRT_FRAC_BITS).clamp(1 << 15, (1 << 16) - 1);
+    (m, (32 - k as i32) / 2)
+}
+
 /// `floor(sqrt(n))`, exactly, for any `n < 2^31`: [`sqrt_q8`] (never above the exact
 /// root, at most a unit below it) corrected upwards; no bit-by-bit loop.
 #[inline]
@@ -167,6 +190,26 @@ mod tests {
             46_341 * 46_341 - 1,
         ] {
             assert_eq!(isqrt32(n), n.isqrt(), "{n}");
+        }
+    }
+
+    #[test]
+    fn the_16_bit_mantissa_root_is_within_its_bound() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        for i in 0..200_000u32 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let n = x >> (i % 64);
+            let (m, e) = sqrt_u64_m16(n);
+            if n == 0 {
+                assert_eq!((m, e), (0, 0));
+                continue;
+            }
+            assert!((1 << 15..1 << 16).contains(&m), "{n}: {m}");
+            let got = f64::from(m) * 2f64.powi(e);
+            let want = (n as f64).sqrt();
+            assert!((got - want).abs() <= 4e-5 * want, "{n}: {got} {want}");
         }
     }
 }

@@ -370,6 +370,13 @@ impl<'a, P: PixelFormat> Row<'a, P> {
         P::luma_at_byte(self.bytes, x.wrapping_mul(P::BYTES_PER_PIXEL))
     }
 
+    /// Fills `out` with the luma of pixels `x0..x0 + out.len()` (px), 0 past the row's
+    /// end: one bounds check for the run.
+    #[inline(always)]
+    pub fn lumas(&self, x0: usize, out: &mut [u8]) {
+        P::lumas(self.bytes, x0, out)
+    }
+
     /// Bin (`0..Bn::BINS`) of pixel `x` (px); 0 past the row's end.
     #[inline(always)]
     pub fn bin<Bn: Binning>(&self, x: usize) -> u16 {

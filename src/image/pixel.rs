@@ -48,14 +48,38 @@ mod private {
                 x = x.wrapping_add(run.step);
             }
         }
+        /// Fills `out` with the luma of the pixels from column `x0` (px) of `row` on, as
+        /// [`Read::luma_at_byte`] would give them, without a bounds check per pixel.
+        fn lumas(row: &[u8], x0: usize, out: &mut [u8]);
     }
 }
 
 pub(super) use private::Read;
 pub(crate) use private::Run;
 
-/// [`Read::for_each_bin`] for a format of `BPP` bytes per pixel, `bin` giving a
-/// pixel's bin from its bytes: one bounds check per run, then fixed-size chunks.
+/// [`Read::lumas`] for a format of `BPP` bytes per pixel, `luma` giving a pixel's luma
+/// from its bytes: one bounds check, then fixed-size chunks (0 past the row's end).
+#[inline(always)]
+fn lumas_of_run<const BPP: usize>(
+    row: &[u8],
+    x0: usize,
+    out: &mut [u8],
+    luma: impl Fn(&[u8; BPP]) -> u8,
+) {
+    let start = x0.saturating_mul(BPP).min(row.len());
+    let run = row.get(start..).unwrap_or_default().chunks_exact(BPP);
+    // The run first, so that the first output past its end is left to the zeros below.
+    let mut out = out.iter_mut();
+    for (px, o) in run.zip(out.by_ref()) {
+        *o = px.first_chunk::<BPP>().map_or(0, &luma);
+    }
+    for o in out {
+        *o = 0;
+    }
+}
+
+/// [`Read::for_each_bin`] for a format of `BPP` bytes per pixel, `bin` giving a pixel's
+/// bin from its bytes: one bounds check per run, then fixed-size chunks.
 #[inline(always)]
 fn bins_of_run<const BPP: usize>(
     row: &[u8],
@@ -97,7 +121,7 @@ fn bins_of_run<const BPP: usize>(
             }
         }
         // Partly past the row's end (never for the windows of `crate::window`): one by
-        // one, bin 0 past the end.
+        // one, 0 past the end.
         _ => {
             let mut x = x0;
             for _ in 0..count {
@@ -190,6 +214,10 @@ impl Read for Gray8 {
     fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
         bins_of_run::<1>(row, run, |&[y]| Bn::from_luma(y), f)
     }
+    #[inline(always)]
+    fn lumas(row: &[u8], x0: usize, out: &mut [u8]) {
+        lumas_of_run::<1>(row, x0, out, |&[y]| y)
+    }
 }
 
 #[inline(always)]
@@ -228,6 +256,13 @@ impl<const BIG_ENDIAN: bool> Read for Rgb565<BIG_ENDIAN> {
             },
             f,
         )
+    }
+    #[inline(always)]
+    fn lumas(row: &[u8], x0: usize, out: &mut [u8]) {
+        lumas_of_run::<2>(row, x0, out, |&[a, b]| match BIG_ENDIAN {
+            true => rgb565_luma(a, b),
+            false => rgb565_luma(b, a),
+        })
     }
 }
 
@@ -289,6 +324,13 @@ macro_rules! read_24 {
             fn for_each_bin<Bn: Binning>(row: &[u8], run: Run, f: impl FnMut(u16)) {
                 bins_of_run::<3>(row, run, |&px| bin_24::<Bn, $bgr>(px), f)
             }
+            #[inline(always)]
+            fn lumas(row: &[u8], x0: usize, out: &mut [u8]) {
+                lumas_of_run::<3>(row, x0, out, |&px| {
+                    let (r, g, b) = rgb_of::<$bgr>(px);
+                    luma_of_rgb(r, g, b)
+                })
+            }
         }
     };
 }
@@ -320,6 +362,10 @@ impl<const CHROMA_FIRST: bool> Read for Yuv422<CHROMA_FIRST> {
             _ => 0,
         }
     }
+    #[inline(always)]
+    fn lumas(row: &[u8], x0: usize, out: &mut [u8]) {
+        lumas_of_run::<2>(row, x0, out, |&[a, b]| if CHROMA_FIRST { b } else { a })
+    }
 }
 
 #[cfg(test)]
@@ -348,7 +394,7 @@ mod tests {
     /// Runs of bins equal the bins one by one, every format, every step, at and past the
     /// row's end.
     #[test]
-    fn runs_of_bins_equal_single_bins() {
+    fn runs_of_bins_and_lumas_equal_single_ones() {
         fn check<P: PixelFormat>(bytes_per_px: usize) {
             extern crate std;
             use std::vec::Vec;
@@ -369,6 +415,14 @@ mod tests {
                             .map(|k| P::bin_at::<Rgb8x8x8>(row, x0 + k * step))
                             .collect();
                         assert_eq!(got, want, "x0 {x0} step {step} count {count}");
+                        if step == 1 {
+                            let mut got = std::vec![7u8; count as usize];
+                            P::lumas(row, x0, &mut got);
+                            let want: Vec<u8> = (0..count as usize)
+                                .map(|k| P::luma_at_byte(row, (x0 + k) * bytes_per_px))
+                                .collect();
+                            assert_eq!(got, want, "luma: x0 {x0} count {count}");
+                        }
                     }
                 }
             }

@@ -109,15 +109,15 @@ pub const IDENTITY: Calibration = table([
 
 /// The correlation-filter tracker's table (score: the merged response peak).
 pub const CORRELATION: Calibration = table([
-    (0, 10),
-    (217, 51),
-    (231, 226),
-    (247, 407),
-    (265, 512),
-    (281, 618),
-    (310, 705),
-    (332, 843),
-    (403, 928),
+    (0, 1),
+    (212, 48),
+    (225, 235),
+    (248, 399),
+    (266, 519),
+    (289, 619),
+    (305, 692),
+    (326, 843),
+    (441, 932),
     (1000, 1000),
 ]);
 

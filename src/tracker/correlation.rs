@@ -43,7 +43,7 @@
 
 use super::{calibration, CameraMotion, ConfigError, Estimate, Status};
 use crate::cf::colour::{ColourMap, ColourModel, Grid, SampleBox};
-use crate::cf::features::{extract, Cell, Sampling, CHANNELS};
+use crate::cf::features::{Cell, Extractor, Sampling, CHANNELS};
 use crate::cf::filter::{Filter, FilterSettings};
 use crate::cf::scale::{ScaleFilter, ScaleSettings};
 use crate::fixed::Q16;
@@ -209,6 +209,7 @@ impl CfConfig {
             "padding",
         )?;
         check(matches!(self.cell, 2 | 4 | 6 | 8), "cell")?;
+        check(matches!(self.scale.cell, 2 | 4 | 6 | 8), "scale.cell")?;
         check(self.sigma > Q16::ZERO, "sigma")?;
         check(self.lambda > 0, "lambda")?;
         check(unit(self.cf_rate), "cf_rate")?;
@@ -284,6 +285,9 @@ pub struct CfTracker<Bn: Binning, const B: usize, const G: usize, const S: usize
     scale: ScaleFilter<S>,
     colour: ColourModel<B>,
     map: ColourMap<B>,
+    /// The feature extraction's working memory, for the search regions and the scale
+    /// samples.
+    extractor: Extractor,
     /// The last search region's features.
     cells: [[Cell; G]; G],
     /// The translation filter's last response, Q16.16.
@@ -339,6 +343,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             scale: ScaleFilter::UNSET,
             colour: ColourModel::new(),
             map: ColourMap::new(),
+            extractor: Extractor::NEW,
             cells: [[[0; CHANNELS]; G]; G],
             response: [[0; G]; G],
             velocity: (Q16::ZERO, Q16::ZERO),
@@ -389,7 +394,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             lambda: config.lambda,
         };
         self.filter.reset(settings, &self.cells);
-        self.scale.start(config.scale, frame, centre, size);
+        self.scale
+            .start(config.scale, frame, centre, size, &mut self.extractor);
         let grid = self.colour_grid(centre, &geometry);
         self.map.build::<Bn, P>(frame, &grid, &self.colour);
         let still = (Q16::ZERO, Q16::ZERO);
@@ -525,7 +531,9 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         // The scale samples serve a size change (at `scale_above`) and learning (at
         // `learn_above`): below both, as on a lost frame, they are not taken.
         let sampled = match score >= c.scale_above || score >= c.learn_above {
-            true => self.scale.respond(frame, self.centre, self.size),
+            true => self
+                .scale
+                .respond(frame, self.centre, self.size, &mut self.extractor),
             false => Q16::ONE,
         };
         let factor = match score >= c.scale_above {
@@ -792,7 +800,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             rows: G,
             cell: self.config.cell,
         };
-        extract(frame, &sampling, self.cells.as_flattened_mut());
+        self.extractor
+            .extract(frame, &sampling, self.cells.as_flattened_mut());
     }
 
     /// The colour samples of the region of `geometry` around `centre`.

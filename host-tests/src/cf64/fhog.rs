@@ -89,6 +89,136 @@ impl Hog {
     }
 }
 
+/// How a pixel's gradient magnitude is measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Magnitude {
+    /// `sqrt(gx^2 + gy^2)`.
+    #[default]
+    Euclidean,
+    /// `max(|gx|, |gy|) + min(|gx|, |gy|) / 2`: within -11.8 % and +11.8 % of the root.
+    MaxHalfMin,
+    /// `|gx| + |gy|`.
+    Sum,
+    /// `max(|gx|, |gy|) + 3/8 min(|gx|, |gy|)`, the `3/8 min` floored to the core's
+    /// 1/512 of a grey level: within -7.9 % and +6.8 % of the root.
+    Octagon,
+}
+
+/// How a pixel's magnitude is shared between cells.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Spread {
+    /// Bilinearly over the 4 nearest cells (cell coordinate `(p + 1/2) / cell - 1/2`).
+    #[default]
+    Bilinear,
+    /// All to the cell the pixel lies in.
+    Nearest,
+    /// By the half of its cell it lies in, each way: 3/4 to its cell and 1/4 to the
+    /// neighbour on that side (the mean of the bilinear weights over the half); a middle
+    /// pixel of an odd cell all to its cell.
+    Halves,
+}
+
+/// The per-pixel part of fHOG's definition.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Gradients {
+    /// Magnitude of a pixel's gradient.
+    pub magnitude: Magnitude,
+    /// Its share of the cells.
+    pub spread: Spread,
+}
+
+impl Gradients {
+    /// The core's definition (`rbtrack::cf::features`): the root magnitude shared by
+    /// half-cells, one update a pixel for each of 4 cells at fixed weights.
+    pub const CORE: Self = Self {
+        magnitude: Magnitude::Euclidean,
+        spread: Spread::Halves,
+    };
+}
+
+impl Magnitude {
+    /// By name: `euclidean`, `maxhalfmin`, `sum` or `octagon`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        match text {
+            "euclidean" => Ok(Self::Euclidean),
+            "maxhalfmin" => Ok(Self::MaxHalfMin),
+            "sum" => Ok(Self::Sum),
+            "octagon" => Ok(Self::Octagon),
+            _ => Err(format!(
+                "{text:?}: expected euclidean, maxhalfmin, sum or octagon"
+            )),
+        }
+    }
+
+    /// The name [`Magnitude::parse`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Euclidean => "euclidean",
+            Self::MaxHalfMin => "maxhalfmin",
+            Self::Sum => "sum",
+            Self::Octagon => "octagon",
+        }
+    }
+
+    /// The magnitude of gradient `(gx, gy)`.
+    pub fn of(self, gx: f64, gy: f64) -> f64 {
+        let (a, b) = (gx.abs(), gy.abs());
+        match self {
+            Self::Euclidean => (gx * gx + gy * gy).sqrt(),
+            Self::MaxHalfMin => a.max(b) + 0.5 * a.min(b),
+            Self::Sum => a + b,
+            Self::Octagon => a.max(b) + (3.0 * a.min(b) * 512.0 / 8.0).floor() / 512.0,
+        }
+    }
+}
+
+impl Spread {
+    /// By name: `bilinear`, `nearest` or `halves`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        match text {
+            "bilinear" => Ok(Self::Bilinear),
+            "nearest" => Ok(Self::Nearest),
+            "halves" => Ok(Self::Halves),
+            _ => Err(format!("{text:?}: expected bilinear, nearest or halves")),
+        }
+    }
+
+    /// The name [`Spread::parse`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Bilinear => "bilinear",
+            Self::Nearest => "nearest",
+            Self::Halves => "halves",
+        }
+    }
+
+    /// Pixel `p`'s two cells along an axis of `cells` cells of `cell` px and their
+    /// weights (a cell outside the grid as cell 0 weighing 0).
+    fn split(self, p: usize, cell: usize, cells: usize) -> [(usize, f64); 2] {
+        let inside = |c: i64, w: f64| match c >= 0 && (c as usize) < cells {
+            true => (c as usize, w),
+            false => (0, 0.0),
+        };
+        let (k, j) = ((p / cell) as i64, p % cell);
+        match self {
+            Self::Bilinear => {
+                let at = (p as f64 + 0.5) / cell as f64 - 0.5;
+                let c0 = at.floor();
+                let f = at - c0;
+                [inside(c0 as i64, 1.0 - f), inside(c0 as i64 + 1, f)]
+            }
+            Self::Nearest => [inside(k, 1.0), (0, 0.0)],
+            Self::Halves => match (2 * j + 1).cmp(&cell) {
+                std::cmp::Ordering::Less => [inside(k, 0.75), inside(k - 1, 0.25)],
+                std::cmp::Ordering::Greater => [inside(k, 0.75), inside(k + 1, 0.25)],
+                std::cmp::Ordering::Equal => [inside(k, 1.0), (0, 0.0)],
+            },
+        }
+    }
+}
+
 /// A stack of per-cell feature channels: `rows x cols` cells per channel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Features {
@@ -128,14 +258,20 @@ impl Features {
 /// The features of `patch` in cells of `cell` px (`patch.width / cell` across, extra pixels
 /// at the right and bottom ignored): the mean grey per cell (`/ 255 - 0.5`) first when
 /// `grey`, then the `hog` channels.
-pub fn features(patch: &Patch, cell: usize, hog: Hog, grey: bool) -> Features {
+pub fn features(
+    patch: &Patch,
+    cell: usize,
+    hog: Hog,
+    grey: bool,
+    gradients: Gradients,
+) -> Features {
     let (cols, rows) = (patch.width / cell, patch.height / cell);
     let mut data = Vec::with_capacity((usize::from(grey) + hog.channels()) * rows * cols);
     if grey {
         data.extend(grey_cells(patch, cell, cols, rows));
     }
     if hog != Hog::Off {
-        let all = fhog(patch, cell, cols, rows);
+        let all = fhog(patch, cell, cols, rows, gradients);
         for c in hog.kept() {
             data.extend((0..rows * cols).map(|i| all[i * 31 + c]));
         }
@@ -194,38 +330,47 @@ fn gradient(patch: &Patch, x: usize, y: usize) -> (f64, f64) {
     best
 }
 
-/// The signed orientation bin of a gradient: nearest of 18 bins of 20 degrees.
+/// The signed orientation bin of a gradient: nearest of 18 bins of 20 degrees
+/// (`round(atan2(gy, gx) / 20 deg) mod 18`, a boundary going to the bin nearer 90 or 270
+/// degrees, and those themselves to the bin above), with the
+/// boundaries `10 + 20 k` degrees at the core's Q15 tangents
+/// ([`rbtrack::cf::features::TANGENTS`]), so that both bin every gradient alike.
 pub fn signed_bin(gx: f64, gy: f64) -> usize {
-    let angle = gy.atan2(gx).rem_euclid(std::f64::consts::TAU);
-    (angle * SIGNED as f64 / std::f64::consts::TAU + 0.5) as usize % SIGNED
+    // Folded into [0, 180): the lower half-plane is 9 bins on.
+    let lower = gy < 0.0 || (gy == 0.0 && gx < 0.0);
+    let (gx, gy) = if lower { (-gx, -gy) } else { (gx, gy) };
+    let (ax, ay) = (gx.abs(), gy);
+    // The first-quadrant boundaries the angle is at or past: mirrored, `9 -` those, so
+    // that a tie goes to the bin nearer 90 degrees.
+    let count = || {
+        rbtrack::cf::features::TANGENTS
+            .iter()
+            .filter(|&&t| ay * 32768.0 >= f64::from(t) * ax)
+            .count()
+    };
+    let passed = if gx > 0.0 {
+        count()
+    } else if gx == 0.0 {
+        5
+    } else {
+        9 - count()
+    };
+    (passed + if lower { UNSIGNED } else { 0 }) % SIGNED
 }
 
 /// The 31 fHOG channels per cell: `out[cell * 31 + channel]`, cells row-major.
-fn fhog(patch: &Patch, cell: usize, cols: usize, rows: usize) -> Vec<f64> {
-    // Orientation histograms, bilinear over cells.
+fn fhog(patch: &Patch, cell: usize, cols: usize, rows: usize, g: Gradients) -> Vec<f64> {
+    // Orientation histograms, each pixel's magnitude shared over cells.
     let mut hist = vec![0.0; rows * cols * SIGNED];
     let scale = 1.0 / (cell * cell) as f64;
-    let split = |p: usize, cells: usize| {
-        let at = (p as f64 + 0.5) / cell as f64 - 0.5;
-        let c0 = at.floor();
-        let f = at - c0;
-        let c0 = c0 as i64;
-        [(c0, 1.0 - f), (c0 + 1, f)].map(|(c, w)| {
-            if c >= 0 && (c as usize) < cells {
-                (c as usize, w)
-            } else {
-                (0, 0.0)
-            }
-        })
-    };
     for y in 0..rows * cell {
-        let ys = split(y, rows);
+        let ys = g.spread.split(y, cell, rows);
         for x in 0..cols * cell {
             let (gx, gy) = gradient(patch, x, y);
-            let m = (gx * gx + gy * gy).sqrt() * scale;
+            let m = g.magnitude.of(gx, gy) * scale;
             let o = signed_bin(gx, gy);
             for &(cy, wy) in &ys {
-                for &(cx, wx) in &split(x, cols) {
+                for &(cx, wx) in &g.spread.split(x, cell, cols) {
                     hist[(cy * cols + cx) * SIGNED + o] += m * wy * wx;
                 }
             }
@@ -302,7 +447,13 @@ mod tests {
         // A linear ramp has the same gradient everywhere: one signed bin per cell, whose
         // 2x2-block normalised value 0.5 clips to 0.2 under each of the 4 normalisers.
         for bin in 0..SIGNED {
-            let f = features(&ramp(32, bin as f64 * 20.0, 2.0), 4, Hog::Fhog31, false);
+            let f = features(
+                &ramp(32, bin as f64 * 20.0, 2.0),
+                4,
+                Hog::Fhog31,
+                false,
+                Gradients::default(),
+            );
             assert_eq!((f.cols, f.rows, f.channels), (8, 8, 31));
             for i in 0..f.cells() {
                 for c in 0..31 {
@@ -337,6 +488,28 @@ mod tests {
     }
 
     #[test]
+    fn orientation_bins_are_atan2_s_but_within_a_sliver_of_each_boundary() {
+        // The Q15 tangents are within 3e-5 rad of 10 + 20 k degrees.
+        let exact = |gx: f64, gy: f64| {
+            let angle = gy.atan2(gx).rem_euclid(std::f64::consts::TAU);
+            (angle * SIGNED as f64 / std::f64::consts::TAU + 0.5) as usize % SIGNED
+        };
+        let mut differ = 0;
+        for i in 0..100_000 {
+            let t = (i as f64 * 0.618_034).fract() * std::f64::consts::TAU;
+            let (gx, gy) = (1e4 * t.cos(), 1e4 * t.sin());
+            let off = (t.to_degrees() - 10.0)
+                .rem_euclid(20.0)
+                .min(20.0 - (t.to_degrees() - 10.0).rem_euclid(20.0));
+            if signed_bin(gx, gy) != exact(gx, gy) {
+                assert!(off < 0.002, "{} degrees", t.to_degrees());
+                differ += 1;
+            }
+        }
+        assert!(differ < 20, "{differ}");
+    }
+
+    #[test]
     fn a_step_edge_marks_only_the_cells_along_it() {
         // Dark left half, bright right half: the gradient points right (bin 0) on the two
         // pixel columns beside the edge, in cells 3 and 4 of each row (edge at x = 15.5).
@@ -348,7 +521,7 @@ mod tests {
             height: 32,
             rgb,
         };
-        let f = features(&patch, 4, Hog::Fhog31, false);
+        let f = features(&patch, 4, Hog::Fhog31, false, Gradients::default());
         for y in 0..8 {
             for x in 0..8 {
                 let i = y * 8 + x;
@@ -368,7 +541,7 @@ mod tests {
             rgb: patch.rgb.iter().map(|p| p.map(|v| 240.0 - v)).collect(),
             ..patch
         };
-        let g = features(&flipped, 4, Hog::Fhog31, false);
+        let g = features(&flipped, 4, Hog::Fhog31, false, Gradients::default());
         assert_eq!(g.channel(9), f.channel(0));
         assert_eq!(g.channel(SIGNED), f.channel(SIGNED));
     }
@@ -376,18 +549,18 @@ mod tests {
     #[test]
     fn channel_sets_select_from_the_31() {
         let patch = ramp(16, 40.0, 3.0);
-        let all = features(&patch, 4, Hog::Fhog31, true);
+        let all = features(&patch, 4, Hog::Fhog31, true, Gradients::default());
         assert_eq!(all.channels, 32);
         let cells = all.cells();
         for (hog, first) in [(Hog::Fhog27, 0), (Hog::Texture13, 18), (Hog::Unsigned9, 18)] {
-            let f = features(&patch, 4, hog, false);
+            let f = features(&patch, 4, hog, false, Gradients::default());
             assert_eq!(f.channels, hog.channels());
             assert_eq!(
                 f.data[..],
                 all.data[(1 + first) * cells..(1 + first + hog.channels()) * cells]
             );
         }
-        let grey = features(&patch, 4, Hog::Off, true);
+        let grey = features(&patch, 4, Hog::Off, true, Gradients::default());
         assert_eq!(grey.data[..], all.data[..cells]);
     }
 
@@ -401,7 +574,7 @@ mod tests {
             height: 8,
             rgb,
         };
-        let f = features(&patch, 4, Hog::Off, true);
+        let f = features(&patch, 4, Hog::Off, true, Gradients::default());
         assert_eq!(f.data, vec![-0.5, 0.5, -0.5, 0.5]);
     }
 }

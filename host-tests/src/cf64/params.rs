@@ -1,7 +1,7 @@
 //! Every setting of the f64 correlation-filter tracker in one place, settable by name
 //! (`rbtrack --set cf.grid=16`).
 
-use super::fhog::Hog;
+use super::fhog::{Gradients, Hog, Magnitude, Spread};
 use super::image::Resample;
 use crate::fields::{self, field_table, FieldValue};
 use rbtrack::tracker::calibration;
@@ -22,6 +22,10 @@ pub struct Params {
     pub hog: Hog,
     /// A grey channel (the cell's mean) beside them.
     pub grey: bool,
+    /// fHOG's measure of a pixel's gradient magnitude, in both filters.
+    pub hog_magnitude: Magnitude,
+    /// fHOG's share of a pixel's magnitude between cells, in both filters.
+    pub hog_spread: Spread,
     /// fHOG gradients of the luma alone, not of the strongest colour channel: what a grey
     /// or YUV camera gives, and what the integer tracker reads.
     pub luma_gradient: bool,
@@ -112,6 +116,8 @@ impl Default for Params {
             padding: 1.0,
             hog: Hog::Fhog27,
             grey: true,
+            hog_magnitude: Magnitude::Euclidean,
+            hog_spread: Spread::Bilinear,
             luma_gradient: false,
             bilinear: false,
             sigma: 1.0 / 16.0,
@@ -151,6 +157,24 @@ impl Default for Params {
     }
 }
 
+impl FieldValue for Magnitude {
+    fn parse(text: &str) -> Result<Self, String> {
+        Magnitude::parse(text)
+    }
+    fn to_json(&self) -> Value {
+        Value::from(self.name())
+    }
+}
+
+impl FieldValue for Spread {
+    fn parse(text: &str) -> Result<Self, String> {
+        Spread::parse(text)
+    }
+    fn to_json(&self) -> Value {
+        Value::from(self.name())
+    }
+}
+
 impl FieldValue for Hog {
     fn parse(text: &str) -> Result<Self, String> {
         Hog::parse(text)
@@ -178,6 +202,8 @@ pub static FIELDS: &[Field] = field_table! {
     padding,
     hog,
     grey,
+    hog_magnitude,
+    hog_spread,
     luma_gradient,
     bilinear,
     sigma,
@@ -309,6 +335,14 @@ impl Params {
 }
 
 impl Params {
+    /// fHOG's per-pixel definition.
+    pub fn gradients(&self) -> Gradients {
+        Gradients {
+            magnitude: self.hog_magnitude,
+            spread: self.hog_spread,
+        }
+    }
+
     /// How patches read the frame.
     pub fn resample(&self) -> Resample {
         match self.bilinear {
@@ -318,8 +352,9 @@ impl Params {
     }
     /// The f64 settings of the core's integer tracker configured by `c` on a `grid x grid`
     /// grid of cells and `scales` scales: its reference in the tests. The integer tracker
-    /// resamples the frame's 8-bit luma bilinearly, reads its fHOG gradients, the 9
-    /// unsigned channels and the mean grey, colours in 3 bits a channel (the core's 8x8x8
+    /// resamples the frame's 8-bit luma bilinearly, reads its fHOG gradients (shared
+    /// between cells by half-cells), the 9 unsigned channels and the
+    /// mean grey, colours in 3 bits a channel (the core's 8x8x8
     /// bins) at 2 samples a cell each way, learns on the detection's patch and samples,
     /// and reads the scale between samples without a window over them; while lost it
     /// searches as the integer tracker does (`redetect`, `coast`).
@@ -332,6 +367,8 @@ impl Params {
             padding: q(c.padding),
             hog: Hog::Unsigned9,
             grey: true,
+            hog_magnitude: Gradients::CORE.magnitude,
+            hog_spread: Gradients::CORE.spread,
             luma_gradient: true,
             bilinear: true,
             sigma: q(c.sigma),

@@ -12,7 +12,7 @@
 //! `IFFT(sum_d A_d Z_d / (B + lambda))`, peaked at the scale the target now has.
 
 use super::fft::{Fft1, C64};
-use super::fhog::{features, Hog};
+use super::fhog::{features, Gradients, Hog};
 use super::filter::hann;
 use super::image::{Resample, RgbImage};
 
@@ -31,6 +31,8 @@ pub struct ScaleParams {
     pub cell: usize,
     /// fHOG channels.
     pub hog: Hog,
+    /// fHOG's per-pixel definition.
+    pub gradients: Gradients,
     /// Regulariser.
     pub lambda: f64,
     /// Weigh the samples by a Hann window over the scales.
@@ -132,7 +134,13 @@ impl ScaleFilter {
                 true => frame.luma_patch(centre, extent, self.model, resample),
                 false => frame.patch(centre, extent, self.model, resample),
             };
-            let feat = features(&patch, self.params.cell, self.params.hog, false);
+            let feat = features(
+                &patch,
+                self.params.cell,
+                self.params.hog,
+                false,
+                self.params.gradients,
+            );
             columns.push(feat.data.into_iter().map(|v| v * w).collect::<Vec<_>>());
         }
         let d = columns[0].len();
@@ -229,6 +237,7 @@ mod tests {
             area: 32.0 * 16.0,
             cell: 4,
             hog: Hog::Fhog31,
+            gradients: Gradients::default(),
             lambda: 1e-2,
             window: true,
             luma: false,

@@ -551,7 +551,7 @@ fn region_features(
         true => frame.luma_patch(centre, geometry.region, side, p.resample()),
         false => frame.patch(centre, geometry.region, side, p.resample()),
     };
-    features(&patch, p.cell, p.hog, p.grey)
+    features(&patch, p.cell, p.hog, p.grey, p.gradients())
 }
 
 /// The colour samples of the region of `geometry` around `centre`: `side / colour_step`
@@ -574,6 +574,7 @@ pub(super) fn scale_params(params: &Params) -> ScaleParams {
         area: params.scale_area,
         cell: params.scale_cell,
         hog: params.scale_hog,
+        gradients: params.gradients(),
         lambda: params.scale_lambda,
         window: params.scale_window,
         luma: params.luma_gradient,
