@@ -167,15 +167,16 @@ mod budget {
     /// mean instructions per stage (features, filter, colour, scale, learn) and of a step,
     /// then the largest of a step, then the largest step while lost and its re-detection
     /// (the scene's last frame followed by [`LOST_FRAMES`] black ones: the first reports
-    /// `Lost`, the others search the ring too); and the mean target height, px.
+    /// `Lost`, the others search the ring too); and the mean target height and the mean
+    /// height of the tracker's box, px (the frame rows read follow the second).
     fn measure_cf<const G: usize, const S: usize>(
         tracker: &mut Cf<G, S>,
         frame: &mut [u8],
         counter: &mut SysTick,
         config: CfConfig,
         scale: Q16,
-    ) -> ([u64; 9], u64) {
-        let (mut sums, mut most, mut height) = ([0u64; 6], 0u32, 0u64);
+    ) -> ([u64; 9], [u64; 2]) {
+        let (mut sums, mut most, mut heights) = ([0u64; 6], 0u32, [0u64; 2]);
         let result = run_cf(config, tracker, scale, frame, &mut *counter, |r| {
             let c = r.cycles;
             let row = [c.features, c.filter, c.colour, c.scale, c.learn, c.total()];
@@ -183,7 +184,10 @@ mod budget {
                 *sum += v as u64;
             }
             most = most.max(c.total());
-            height += ((2 * r.truth.hy.to_bits() as u32) >> 16) as u64;
+            let ellipses = [r.truth, r.estimate.ellipse];
+            for (sum, e) in heights.iter_mut().zip(ellipses) {
+                *sum += ((2 * e.hy.to_bits() as u32) >> 16) as u64;
+            }
         });
         if let Err(e) = result {
             panic!("correlation-filter configuration: {e}");
@@ -204,7 +208,7 @@ mod budget {
         }
         let lost = [lost.0 as u64, lost.1 as u64];
         let row = [f, t, c, s, l, total, most as u64, lost[0], lost[1]];
-        (row, height / FRAMES as u64)
+        (row, heights.map(|h| h / FRAMES as u64))
     }
 
     /// [`measure_cf`] on a tracker of `g` cells and `s` scales made in place in [`OTHER`],
@@ -216,7 +220,7 @@ mod budget {
         counter: &mut SysTick,
         config: CfConfig,
         scale: Q16,
-    ) -> (usize, [u64; 9], u64) {
+    ) -> (usize, [u64; 9], [u64; 2]) {
         // A constant, so that it is copied into the static without a stack temporary.
         macro_rules! in_other {
             ($variant:ident, $g:literal, $s:literal) => {{
@@ -224,8 +228,8 @@ mod budget {
                 let Other::$variant(t) = other else {
                     unreachable!()
                 };
-                let (cost, height) = measure_cf(t, frame, counter, config, scale);
-                (core::mem::size_of::<Cf<$g, $s>>(), cost, height)
+                let (cost, heights) = measure_cf(t, frame, counter, config, scale);
+                (core::mem::size_of::<Cf<$g, $s>>(), cost, heights)
             }};
         }
         match (g, s) {
@@ -454,7 +458,7 @@ mod budget {
         hprintln!("");
         hprintln!("correlation-filter tracker, instructions per frame by stage (mean), total (mean, max):");
         hprintln!(
-            " G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect"
+            " G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect  box h"
         );
         for (g, s, cell, area, ring) in CF_CONFIGS {
             let defaults = CfConfig::default();
@@ -468,9 +472,10 @@ mod budget {
                 ..defaults
             };
             let f = &mut frame[..];
-            let (size, c, _) = measure_cf_in((g, s), other, f, &mut counter, config, Q16::ONE);
+            let (size, c, [_, box_h]) =
+                measure_cf_in((g, s), other, f, &mut counter, config, Q16::ONE);
             hprintln!(
-                "{:>2} {:>2} {:>4} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>9} {:>8}",
+                "{:>2} {:>2} {:>4} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>9} {:>9} {:>9} {:>8} {:>6}",
                 g,
                 s,
                 cell,
@@ -485,7 +490,8 @@ mod budget {
                 c[5],
                 c[6],
                 c[7],
-                c[8]
+                c[8],
+                box_h
             );
         }
         hprintln!(
@@ -497,17 +503,20 @@ mod budget {
         );
         hprintln!("");
         hprintln!(
-            "correlation-filter tracker against target size, defaults (mean target height, px):"
+            "correlation-filter tracker against target size, defaults (mean target height and \
+             box height, px):"
         );
-        hprintln!("height  features    scale     total       max");
+        hprintln!("height  box h  features    scale     total       max");
         for eighths in SCALES_EIGHTHS {
             let scale = Q16::from_int(eighths) / Q16::from_int(8);
             let f = &mut frame[..];
             let config = CfConfig::default();
-            let (_, c, height) = measure_cf_in((16, 8), other, f, &mut counter, config, scale);
+            let (_, c, [height, box_h]) =
+                measure_cf_in((16, 8), other, f, &mut counter, config, scale);
             hprintln!(
-                "{:>6} {:>9} {:>8} {:>9} {:>9}",
+                "{:>6} {:>6} {:>9} {:>8} {:>9} {:>9}",
                 height,
+                box_h,
                 c[0],
                 c[3],
                 c[5],

@@ -1759,7 +1759,7 @@ fn budget_output(factor: [f64; 5]) -> String {
     use rbtrack_host::cf64::Params;
     let mut text = String::from(
         "correlation-filter tracker, instructions per frame by stage (mean), total (mean, max):\n \
-         G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect\n",
+         G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect  box h\n",
     );
     let configurations = [
         (16, 8, 4, 512, 2),
@@ -1783,18 +1783,21 @@ fn budget_output(factor: [f64; 5]) -> String {
         let total: u64 = stages.iter().sum();
         let list: Vec<String> = stages.iter().map(u64::to_string).collect();
         text += &format!(
-            "{g} {s} {cell} {area} {ring} 70616 {} {total} {total} 0 0\n",
+            "{g} {s} {cell} {area} {ring} 70616 {} {total} {total} 0 0 54\n",
             list.join(" ")
         );
     }
     text +=
-        "\ncorrelation-filter tracker against target size, defaults (mean target height, px):\n";
-    text += "height  features    scale     total       max\n";
+        "\ncorrelation-filter tracker against target size, defaults (mean target height and box height, px):\n";
+    text += "height  box h  features    scale     total       max\n";
     let defaults = budget_row(16, 8, 4, 512, 2);
     for height in [19, 40, 81, 122] {
         let stages = estimate(&defaults, Target::scene(f64::from(height) / 54.0));
         let total: u64 = stages.iter().sum();
-        text += &format!("{height} {} {} {total} {total}\n", stages[0], stages[3]);
+        text += &format!(
+            "{height} {height} {} {} {total} {total}\n",
+            stages[0], stages[3]
+        );
     }
     text + "\n"
 }
@@ -1827,7 +1830,7 @@ fn cost_checks_the_model_against_the_budget_example() {
     std::fs::write(&file, budget_output([1.0; 5])).unwrap();
     let o = rbtrack(&["cost", path(&file), "--fit"]);
     assert!(
-        stdout(&o).contains("filter: [39.7, 50.0]"),
+        stdout(&o).contains("filter: [27.0, 41.4]"),
         "{}",
         stdout(&o)
     );

@@ -6,8 +6,9 @@
 //!
 //! Counted for a frame while tracking (no re-detection). The operations:
 //! - features: the search patch's px (`(G cell)^2`), its cells times their fHOG channels
-//!   (normalised one by one), the frame pixels read for it (2 a patch column for each
-//!   frame row the patch touches: every row of the region, at most 2 a patch row) and a
+//!   (normalised one by one), the frame rows it touches (every row of the region, at most
+//!   2 a patch row) times the patch columns (each row interpolated across once) and times
+//!   the pixels read of each (the region's width, at most 2 a patch column), and a
 //!   constant;
 //! - filter: the butterflies of the 2-D transforms (the channels in complex pairs and one
 //!   inverse, `G^2 log2 G` each) and the cells times the channels (the response's
@@ -15,7 +16,8 @@
 //! - colour: the colour map's px (`(G cell / colour_step)^2`) and a constant;
 //! - scale: per sample, its px (the scale model's, fixed by the first box; its features'
 //!   transforms and products go with them, as the core's samples have 9 channels a cell)
-//!   and a constant; the frame pixels the samples read;
+//!   and a constant; the frame pixels the samples read, as runs and one by one (as for
+//!   the patch);
 //! - learning: the cells times the channels (the filter's numerator and denominator), the
 //!   scale filter's feature pairs times the scales, and a constant.
 
@@ -31,11 +33,11 @@ pub const STAGES: [&str; 5] = ["features", "filter", "colour", "scale", "learn"]
 /// least squares on the relative error over the rows of `examples/budget.rs` in QEMU
 /// (`rbtrack cost BUDGET_OUTPUT --fit`).
 pub const PER_OPERATION: [&[f64]; 5] = [
-    &[144.6, 126.6, 16.2, 29_958.7],
-    &[39.7, 50.0],
-    &[102.6, 9_987.9],
-    &[271.2, 22.2, 18_357.6],
-    &[61.4, 139.3, 31_383.6],
+    &[111.2, 77.8, 17.3, 8.9, 20_968.2],
+    &[27.0, 41.4],
+    &[102.6, 9_897.0],
+    &[237.3, 12.5, 21.0, 8_905.8],
+    &[48.2, 66.5, 29_478.4],
 ];
 
 /// The target the cost depends on: its first box, px (width, height), which fixes the
@@ -55,6 +57,16 @@ impl Target {
         Self {
             first: (11.375 * scale, 26.0 * scale),
             current: (23.625 * scale, 54.0 * scale),
+        }
+    }
+
+    /// This target with its box `height` px tall on the frames costed, its sides in the
+    /// same ratio: the tracker's own box sets the frame rows read.
+    pub fn tracked(self, height: f64) -> Self {
+        let (w, h) = self.current;
+        Self {
+            current: (w * height / h, height),
+            ..self
         }
     }
 }
@@ -87,6 +99,8 @@ pub struct Operations {
     pub channels: f64,
     /// fHOG channels of a cell.
     pub hog_channels: f64,
+    /// Frame rows the search patch touches times its columns: horizontal interpolations.
+    pub patch_across: f64,
     /// Frame pixels read for the search patch.
     pub patch_reads: f64,
     /// Butterflies of the translation filter's 2-D transforms.
@@ -97,17 +111,27 @@ pub struct Operations {
     pub samples: f64,
     /// Px of one scale sample.
     pub sample_px: f64,
-    /// Frame pixels read for the scale samples, all of them.
-    pub sample_reads: f64,
+    /// Frame pixels read as runs for the scale samples, all of them.
+    pub sample_runs: f64,
+    /// Frame pixels read one by one for the scale samples, all of them.
+    pub sample_one_by_one: f64,
     /// Feature pairs of a scale sample.
     pub pairs: f64,
 }
 
-/// Frame pixels read to resample a region `region` px tall into `cols x rows` patch px:
-/// 2 a patch column for each frame row touched (each read once for all the patch rows
-/// beside it), at most 2 a patch row.
-fn reads(region: f64, cols: f64, rows: f64) -> f64 {
-    2.0 * cols * (region.ceil() + 1.0).min(2.0 * rows)
+/// What resampling a region `region` px (width, height) into `cols x rows` patch px
+/// costs: (frame rows touched times `cols`, the horizontal interpolations; frame pixels
+/// read as runs; frame pixels read one by one). Each frame row touched (every row of the
+/// region, at most 2 a patch row) is interpolated across once and read once: as one run
+/// of the region's width where that is at most 2 a patch column, else 2 a patch column
+/// one by one.
+fn reads(region: (f64, f64), cols: f64, rows: f64) -> (f64, f64, f64) {
+    let touched = (region.1.ceil() + 1.0).min(2.0 * rows);
+    let span = region.0.ceil() + 1.0;
+    match span <= 2.0 * cols {
+        true => (touched * cols, touched * span, 0.0),
+        false => (touched * cols, 0.0, touched * 2.0 * cols),
+    }
 }
 
 impl Operations {
@@ -118,13 +142,15 @@ impl Operations {
         let hog_channels = params.hog.channels() as f64;
         let channels = hog_channels + f64::from(u8::from(params.grey));
         let (w, h) = target.current;
-        let region = h + params.padding * (w + h) / 2.0;
+        let pad = params.padding * (w + h) / 2.0;
+        let (patch_across, runs, one_by_one) = reads((w + pad, h + pad), side, side);
         let mut ops = Self {
             patch_px: side * side,
             cells: g * g,
             channels,
             hog_channels,
-            patch_reads: reads(region, side, side),
+            patch_across,
+            patch_reads: runs + one_by_one,
             butterflies: ((channels / 2.0).ceil() + 1.0) * g * g * g.log2(),
             colour_px: (side / params.colour_step.max(1) as f64).powi(2),
             ..Self::default()
@@ -135,9 +161,12 @@ impl Operations {
             let middle = params.scales.div_ceil(2) as f64 - 1.0;
             ops.samples = params.scales as f64;
             ops.sample_px = mw * mh;
-            ops.sample_reads = (0..params.scales)
-                .map(|s| reads(h * params.scale_step.powf(middle - s as f64), mw, mh))
-                .sum();
+            for s in 0..params.scales {
+                let f = params.scale_step.powf(middle - s as f64);
+                let (_, runs, one_by_one) = reads((w * f, h * f), mw, mh);
+                ops.sample_runs += runs;
+                ops.sample_one_by_one += one_by_one;
+            }
             let cells = (mw * mh) / (params.scale_cell * params.scale_cell) as f64;
             ops.pairs = (cells * params.scale_hog.channels() as f64 / 2.0).ceil();
         }
@@ -151,12 +180,18 @@ impl Operations {
             vec![
                 self.patch_px,
                 self.cells * self.hog_channels,
+                self.patch_across,
                 self.patch_reads,
                 1.0,
             ],
             vec![self.butterflies, self.cells * self.channels],
             vec![self.colour_px, 1.0],
-            vec![s * self.sample_px, self.sample_reads, s],
+            vec![
+                s * self.sample_px,
+                self.sample_runs,
+                self.sample_one_by_one,
+                s,
+            ],
             vec![self.cells * self.channels, self.pairs * s, 1.0],
         ]
     }
@@ -249,9 +284,16 @@ mod tests {
 
     #[test]
     fn a_region_is_read_once_a_row_at_most_two_rows_a_patch_row() {
-        // 64 patch columns: a 30 px region touches 31 rows, a 300 px one 2 a patch row.
-        assert_eq!(reads(30.0, 64.0, 64.0), 2.0 * 64.0 * 31.0);
-        assert_eq!(reads(300.0, 64.0, 64.0), 2.0 * 64.0 * 128.0);
+        // 64 x 64 patch px: a 30 px tall region touches 31 rows, a 300 px one 2 a patch
+        // row; a row reads the region's width as a run, or 2 a patch column one by one.
+        assert_eq!(
+            reads((20.0, 30.0), 64.0, 64.0),
+            (64.0 * 31.0, 21.0 * 31.0, 0.0)
+        );
+        assert_eq!(
+            reads((300.0, 300.0), 64.0, 64.0),
+            (64.0 * 128.0, 0.0, 128.0 * 128.0)
+        );
     }
 
     #[test]

@@ -150,8 +150,9 @@ fn estimate(args: &CostArgs, out: &mut dyn Write) -> Result<(), Failure> {
 }
 
 /// The correlation-filter rows of the budget example's output: its configuration table
-/// (`G S cell area ring size_of` then the five stages, the total, ...) and its table
-/// against the target's size (`height features scale total max`, the defaults).
+/// (`G S cell area ring size_of` then the five stages, the total, ..., the tracker's mean
+/// box height) and its table against the target's size (`height`, the box's, then
+/// `features scale total max`, the defaults).
 fn parse(text: &str) -> Vec<Row> {
     let numbers = |line: &str| -> Option<Vec<f64>> {
         line.split_whitespace().map(|w| w.parse().ok()).collect()
@@ -164,7 +165,7 @@ fn parse(text: &str) -> Vec<Row> {
             table = "configurations";
             continue;
         }
-        if trimmed.starts_with("height  features") {
+        if trimmed.starts_with("height  box h  features") {
             table = "sizes";
             continue;
         }
@@ -173,7 +174,10 @@ fn parse(text: &str) -> Vec<Row> {
             continue;
         };
         match (table, v.as_slice()) {
-            ("configurations", &[g, s, cell, area, ring, _, f, fi, c, sc, l, total, ..]) => {
+            (
+                "configurations",
+                &[g, s, cell, area, ring, _, f, fi, c, sc, l, total, _, _, _, box_h],
+            ) => {
                 let params = budget_row(
                     g as usize,
                     s as usize,
@@ -183,14 +187,14 @@ fn parse(text: &str) -> Vec<Row> {
                 );
                 rows.push(Row {
                     label: format!("G {g} S {s} cell {cell} area {area} ring {ring}"),
-                    operations: Operations::of(&params, Target::scene(1.0)),
+                    operations: Operations::of(&params, Target::scene(1.0).tracked(box_h)),
                     measured: [f, fi, c, sc, l].map(Some),
                     total,
                 });
             }
-            ("sizes", &[height, f, sc, total, _]) => {
+            ("sizes", &[height, box_h, f, sc, total, _]) => {
                 let params = budget_row(16, 8, 4, 512, 2);
-                let target = Target::scene(height / SCENE_HEIGHT);
+                let target = Target::scene(height / SCENE_HEIGHT).tracked(box_h);
                 rows.push(Row {
                     label: format!("defaults, {height} px tall"),
                     operations: Operations::of(&params, target),
