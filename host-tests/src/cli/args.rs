@@ -303,6 +303,8 @@ pub enum Starts {
     Box,
     /// The box and six perturbed boxes ([`Start::SPATIAL`]).
     Spatial,
+    /// Those and 14 more ([`Start::WIDE`]): 21 runs a sequence and seed.
+    Wide,
 }
 
 impl Starts {
@@ -311,6 +313,7 @@ impl Starts {
         match self {
             Self::Box => &Start::SPATIAL[..1],
             Self::Spatial => &Start::SPATIAL,
+            Self::Wide => &Start::WIDE,
         }
     }
 }
@@ -336,7 +339,8 @@ pub struct EvalArgs {
     pub seeds: Vec<u64>,
     /// First boxes: the ground truth's (box), or spatial: also shifted 2 px left, right,
     /// up and down and scaled by 0.95 and 1.05 about its centre (7 starts, every seed
-    /// from each)
+    /// from each), or wide: those and 14 more (1 and 3 px shifts, 2 px diagonals, scales
+    /// 0.9 and 1.1: 21 starts)
     #[arg(long, value_enum, value_name = "S", default_value = "box")]
     pub starts: Starts,
     /// A virtual camera over each sequence: still (a window 3/4 of the frame's width and
@@ -388,7 +392,7 @@ pub struct PortArgs {
     #[arg(value_name = "DATA_DIR", required = true)]
     pub data: Vec<PathBuf>,
     /// First boxes: the ground truth's (box), or spatial: also shifted 2 px left, right,
-    /// up and down and scaled by 0.95 and 1.05 (7 starts)
+    /// up and down and scaled by 0.95 and 1.05 (7 starts), or wide (21 starts)
     #[arg(long, value_enum, value_name = "S", default_value = "box")]
     pub starts: Starts,
     /// The integer tracker's settings (cf.FIELD=VALUE); the reference follows them.
