@@ -85,17 +85,16 @@ class Tracker:
         """The last ellipse (cx, cy, hx, hy): centre and half-axes, px."""
     @property
     def status(self) -> Status:
-        """"tracking", "uncertain" (the tracker searches too) or "lost"."""
+        """"tracking", "uncertain" or "lost", by the confidence."""
     @property
     def confidence(self) -> float:
         """How sure the tracker is, 0..1: about the chance that the box overlaps the
         target's by an IoU of at least 0.5, the same for every variant (its score through
-        a table fitted on 44 sequences). Below 0.5 "uncertain", below 0.1 "lost" ("cf":
-        "lost" until 0.5 again)."""
+        a table fitted on 44 sequences). Below 0.5 "uncertain", below 0.2 "lost"."""
     @property
     def score(self) -> float:
-        """The tracker's own score, 0..1, before calibration. "cf": the peak of its merged
-        template and colour response; "rbpf" and "pf": how well the estimate's window
+        """The tracker's own score, 0..1, before calibration. "cf": how far the peak of its merged
+        template and colour response stands above the rest of it; "rbpf" and "pf": how well the estimate's window
         matches the target's colours, less the particles' spread."""
     @property
     def variant(self) -> Variant: ...

@@ -80,7 +80,7 @@ pub struct CfStageCycles {
     pub features: u32,
     /// The translation filter's response.
     pub filter: u32,
-    /// The colour map and the merged response's peak.
+    /// The colour map and the merged response's peak and margin.
     pub colour: u32,
     /// The scale filter's samples and response.
     pub scale: u32,

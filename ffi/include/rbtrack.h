@@ -87,13 +87,13 @@
 #if defined(RBT_POINTER_32)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (32-bit targets).
-#define RBT_TRACKER_CF_SIZE 91312
+#define RBT_TRACKER_CF_SIZE 91328
 #endif
 
 #if defined(RBT_POINTER_64)
 // Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 // scales, 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_CF_SIZE 91408
+#define RBT_TRACKER_CF_SIZE 91416
 #endif
 
 // Alignment of every tracker's memory, bytes.
@@ -182,9 +182,9 @@ typedef enum {
 
 // How sure the tracker is of its estimate, numbered from least to most sure.
 typedef enum {
-  // Confidence below `lost_below`: the target is hidden or gone; the tracker searches.
+  // Confidence below `lost_below`: the target is hidden, gone or confused with another.
   RBT_STATUS_LOST = 0,
-  // Confidence in `[lost_below, uncertain_below)`: the tracker searches too.
+  // Confidence in `[lost_below, uncertain_below)`.
   RBT_STATUS_UNCERTAIN = 1,
   // Confidence at or above `uncertain_below`.
   RBT_STATUS_TRACKING = 2,
@@ -370,22 +370,27 @@ typedef struct {
   rbt_q16 scale_rate;
   // Largest change of size in a frame, a factor, Q16.16 at least 1.
   rbt_q16 max_scale_change;
-  // Learn only from frames whose confidence is at least this, Q16.16.
+  // Learn only from frames whose merged peak is at least this, Q16.16.
   rbt_q16 learn_above;
   // Status uncertain below this confidence, Q16.16 in [0, 1].
   rbt_q16 uncertain_below;
-  // Status lost below this confidence (and until `uncertain_below` again), Q16.16.
+  // Status lost below this confidence, Q16.16 in [0, uncertain_below].
   rbt_q16 lost_below;
-  // Ring regions searched besides the usual one each frame while lost, 0..=8; when
+  // Search for the target below this merged peak, Q16.16 in [0, search_until]...
+  rbt_q16 search_below;
+  // ...until the peak reaches this, Q16.16 in [0, 1].
+  rbt_q16 search_until;
+  // Ring regions searched besides the usual one each frame of a search, 0..=8; when
   // above 0, the region where the target was last seen too.
   uint32_t redetect;
   // A searched region takes over when its merged peak is at least this, Q16.16...
   rbt_q16 redetect_above;
   // ...and its colour score at least this, Q16.16.
   rbt_q16 redetect_colour;
-  // While lost, search where the velocity it had when lost puts the target (flag).
+  // While searching, search where the velocity it had when the search began puts the
+  // target (flag).
   uint8_t coast;
-  // Change the size only on frames whose confidence is at least this, Q16.16.
+  // Change the size only on frames whose merged peak is at least this, Q16.16.
   rbt_q16 scale_above;
   // Centre the search this share of the smoothed velocity ahead, Q16.16 in [0, 1].
   rbt_q16 lead;
@@ -437,7 +442,8 @@ typedef struct {
   // Vertical velocity, px/frame, Q16.16.
   rbt_q16 vy;
   // The tracker's own score, Q16.16 in [0, 1]: a particle filter's colour coefficient
-  // less the particles' spread, the correlation filter's response peak.
+  // less the particles' spread, the correlation filter's merged response margin (its
+  // peak less the best move beyond the peak's lobe).
   rbt_q16 score;
   // The score through the tracker's calibration: about the chance that the box
   // overlaps the target's by an IoU of at least 0.5, alike for every tracker; it sets

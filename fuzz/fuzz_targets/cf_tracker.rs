@@ -130,7 +130,7 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
                  e: &rbtrack::tracker::Estimate,
                  stepped: bool| {
         assert_eq!(e, tracker.estimate());
-        let previous = stepped.then_some(before);
+        let previous = stepped.then_some((before, tracker.peak()));
         match started {
             Some(start) => check_cf_estimate(e, tracker.config(), &start, previous),
             None => assert_eq!(e, before, "an unstarted tracker stays as it is"),

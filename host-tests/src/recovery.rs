@@ -32,6 +32,10 @@ pub struct Recovery {
     pub hidden: u32,
     /// Of those, frames reported `Lost`.
     pub lost_while_hidden: u32,
+    /// Of those, the frames before the first reported `Lost` (all of them if none is).
+    pub hidden_until_lost: u32,
+    /// Of those, the frames wholly covered (nothing of the target seen).
+    pub covered_until_lost: u32,
     /// Frames from the target being fully visible again to the end.
     pub after: u32,
     /// Of those, frames whose estimated centre lies nearer the target's than the
@@ -63,8 +67,12 @@ pub fn recovery(scene: &Scene, options: &Options) -> Result<Recovery, RunError> 
         let Some(truth) = scene.truth(i) else { break };
         was_covered |= truth.visible_fraction < 1.0;
         if !truth.visible {
+            let lost = step.estimate.status == Status::Lost;
             r.hidden += 1;
-            r.lost_while_hidden += (step.estimate.status == Status::Lost) as u32;
+            r.lost_while_hidden += lost as u32;
+            let before = r.lost_while_hidden == 0;
+            r.hidden_until_lost += before as u32;
+            r.covered_until_lost += (before && truth.visible_fraction <= 0.0) as u32;
         }
         if was_covered && back.is_none() && truth.visible_fraction >= 1.0 {
             back = Some(i);

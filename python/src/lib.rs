@@ -282,7 +282,7 @@ impl Tracker {
     }
 
     /// The tracker's own score, 0..1, before calibration (a particle filter's colour
-    /// coefficient less its spread, the correlation filter's response peak).
+    /// coefficient less its spread, the correlation filter's merged response margin).
     #[getter]
     fn score(&self) -> PyResult<f64> {
         Ok(self.last()?.score.to_f64())

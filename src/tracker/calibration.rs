@@ -2,9 +2,9 @@
 //! confidence means the same chance of being on the target whichever tracker reports it.
 //!
 //! Each tracker scores its estimate its own way (the correlation filter by its merged
-//! response peak, a particle filter by its window's colour coefficient less the particles'
-//! spread), and the same score means different things: at the defaults the correlation
-//! filter tracks well at a score of 0.4, a particle filter is lost at it. A
+//! response's margin, a particle filter by its window's colour coefficient less the
+//! particles' spread), and the same score means different things: at the defaults the
+//! correlation filter tracks well at a score of 0.2, a particle filter is lost at it. A
 //! [`Calibration`] is a rising piecewise-linear map from score to confidence, one table
 //! per tracker, fitted on the pooled dev and validation sequences (`rbtrack eval
 //! --calibrate`, docs/accuracy.md) so that of the frames reported at a confidence `c` about
@@ -107,17 +107,17 @@ pub const IDENTITY: Calibration = table([
 // 7 starts each, 58,184 frames a tracker), the runs made with the tables before them; with
 // these in place the same command measures the reliability docs/accuracy.md gives.
 
-/// The correlation-filter tracker's table (score: the merged response peak).
+/// The correlation-filter tracker's table (score: the merged response margin).
 pub const CORRELATION: Calibration = table([
-    (0, 1),
-    (212, 48),
-    (225, 235),
-    (248, 399),
-    (266, 519),
-    (289, 619),
-    (305, 692),
-    (326, 843),
-    (441, 932),
+    (0, 41),
+    (19, 89),
+    (30, 201),
+    (56, 376),
+    (71, 511),
+    (84, 592),
+    (109, 681),
+    (130, 836),
+    (186, 936),
     (1000, 1000),
 ]);
 

@@ -13,23 +13,30 @@
 //!    box there ([`crate::cf::colour`], `2G x 2G` samples of the region).
 //! 4. The two merge as `(1 - merge) filter + merge colour` over the moves that keep the
 //!    target box inside the region, each axis on its own; the best move, refined between
-//!    cells by parabolas, is the new position and the merged peak the score; the score
-//!    through the tracker's table ([`crate::tracker::calibration`]) is the confidence,
-//!    which sets the status.
+//!    cells by parabolas, is the new position. The score is the merged response's margin:
+//!    its peak less the best value of the moves beyond the peak's lobe (more than
+//!    [`LOBE`] cells from it on either axis), high where one clear peak stands out, low
+//!    where the response is flat or a look-alike answers as well; the score through the
+//!    tracker's table ([`crate::tracker::calibration`]) is the confidence, which sets the
+//!    status.
 //! 5. The scale filter ([`crate::cf::scale`]) finds the size there, at most
-//!    `max_scale_change` away from the last; the size changes only when the score is at
-//!    least `scale_above`, and below both it and `learn_above` (a lost frame) the scale
-//!    samples are not taken.
-//! 6. When the score is at least `learn_above`, the three models learn the frame:
+//!    `max_scale_change` away from the last; the size changes only when the merged peak is
+//!    at least `scale_above`, and below both it and `learn_above` the scale samples are
+//!    not taken.
+//! 6. When the merged peak is at least `learn_above`, the three models learn the frame:
 //!    the search region's spectra and colour samples with the target where it was found,
 //!    and the scale samples.
 //!
-//! While the target is lost the tracker may search where it was last seen (the anchor:
-//! an occluded target reappears there, while the usual search follows the best peak,
-//! often the occluder) and `redetect` more regions a frame, on a ring half a region
-//! around the anchor, and may centre its searches where the velocity it had when lost
+//! When the merged peak falls below `search_below` the tracker searches for the target
+//! until a peak reaches `search_until`: where it was last seen (the anchor: an occluded
+//! target reappears there, while the usual search follows the best peak, often the
+//! occluder) and `redetect` more regions a frame, on a ring half a region around the
+//! anchor, and it may centre its searches where the velocity it had when the search began
 //! puts it (`coast`); such a region takes over only when its merged peak and colour score
 //! clear `redetect_above` and `redetect_colour` and its peak beats the usual region's.
+//! The search follows the peak, the status the margin: a look-alike beside the target
+//! lowers the status while the tracker stays where it is; once `Lost`, the status stays
+//! so while the search lasts, until the confidence reaches `uncertain_below`.
 //! A frame's work is then at most `redetect + 3` searches (the anchor's, the ring, the
 //! usual region and, when another region takes over, that region again so that the
 //! filter learns its spectra). By default it searches 2 ring regions a frame and does not
@@ -55,6 +62,10 @@ use core::marker::PhantomData;
 
 /// Smallest target side, px.
 const MIN_SIDE: i32 = 4;
+
+/// Moves within this many cells of the merged response's peak, each way, lie in its lobe;
+/// the margin (the score) is taken over those beyond.
+pub const LOBE: i32 = 2;
 
 /// The re-detection ring: offsets from where the target was last seen, half regions.
 const RING: [(i32, i32); 8] = [
@@ -99,20 +110,25 @@ pub struct CfConfig {
     pub scale_rate: Q16,
     /// Largest change of size in a frame, a factor, Q16.16 at least 1.
     pub max_scale_change: Q16,
-    /// Learn only from frames whose score (merged peak) is at least this, Q16.16.
+    /// Learn only from frames whose merged peak is at least this, Q16.16.
     pub learn_above: Q16,
-    /// Change the size only on frames whose score is at least this, Q16.16: a
+    /// Change the size only on frames whose merged peak is at least this, Q16.16: a
     /// frame too unsure of where the target is cannot say how big it is.
     pub scale_above: Q16,
     /// Below this confidence the target is uncertain, Q16.16 in `[0, 1]` (by default the
     /// threshold every tracker shares, [`calibration::UNCERTAIN_BELOW`]).
     pub uncertain_below: Q16,
     /// Below this confidence it is lost, Q16.16 in `[0, uncertain_below]` (by default
-    /// [`calibration::LOST_BELOW`]); once lost, it
-    /// stays lost until the confidence reaches `uncertain_below` (no flicker about one
-    /// threshold).
+    /// [`calibration::LOST_BELOW`]); once lost, it stays lost while the tracker searches
+    /// (below), until the confidence reaches `uncertain_below`.
     pub lost_below: Q16,
-    /// Ring regions searched besides the usual one each frame while lost, `0..=8`: the
+    /// Below this merged peak the target is searched for ([`CfConfig::redetect`],
+    /// [`CfConfig::coast`]), until the peak reaches `search_until`, Q16.16 in
+    /// `[0, search_until]`.
+    pub search_below: Q16,
+    /// The merged peak that ends a search, Q16.16 in `[0, 1]`.
+    pub search_until: Q16,
+    /// Ring regions searched besides the usual one each frame of a search, `0..=8`: the
     /// next of a ring of 8, each half a region from where the target was last seen; when
     /// above 0, that region itself too (0: no re-detection).
     pub redetect: usize,
@@ -121,8 +137,8 @@ pub struct CfConfig {
     /// ...and its colour score (the object probability at its peak) at least this,
     /// Q16.16.
     pub redetect_colour: Q16,
-    /// While lost, search where the target would be had it kept the velocity it had when
-    /// lost.
+    /// While searching, search where the target would be had it kept the velocity it had
+    /// when the search began.
     pub coast: bool,
     /// The search region is centred this share of the smoothed velocity ahead of the last
     /// position, Q16.16 in `[0, 1]` (0: on it).
@@ -159,6 +175,9 @@ impl CfConfig {
             scale_above: q(0.25),
             uncertain_below: calibration::UNCERTAIN_BELOW,
             lost_below: calibration::LOST_BELOW,
+            // 0.2226 and 0.2632.
+            search_below: Q16::from_bits(14_586),
+            search_until: Q16::from_bits(17_246),
             redetect: 2,
             redetect_above: q(0.3),
             redetect_colour: q(0.5),
@@ -184,6 +203,8 @@ impl CfConfig {
         scale_above: Q16::ZERO,
         uncertain_below: Q16::ZERO,
         lost_below: Q16::ZERO,
+        search_below: Q16::ZERO,
+        search_until: Q16::ZERO,
         redetect: 0,
         redetect_above: Q16::ZERO,
         redetect_colour: Q16::ZERO,
@@ -231,27 +252,16 @@ impl CfConfig {
             self.lost_below >= Q16::ZERO && self.lost_below <= self.uncertain_below,
             "lost_below",
         )?;
+        check(unit(self.search_until), "search_until")?;
+        check(
+            self.search_below >= Q16::ZERO && self.search_below <= self.search_until,
+            "search_below",
+        )?;
         check(self.redetect <= RING.len(), "redetect")?;
         check(unit(self.redetect_above), "redetect_above")?;
         check(unit(self.redetect_colour), "redetect_colour")?;
         check(unit(self.scale_above), "scale_above")?;
         check(unit(self.lead), "lead")
-    }
-}
-
-impl CfConfig {
-    /// The status of a frame of `confidence` after one of status `previous`: lost below
-    /// `lost_below`, and, once lost, until `uncertain_below`; uncertain below
-    /// `uncertain_below`; else tracking.
-    fn status(&self, confidence: Q16, previous: Status) -> Status {
-        let held = previous == Status::Lost && confidence < self.uncertain_below;
-        if confidence < self.lost_below || held {
-            Status::Lost
-        } else if confidence < self.uncertain_below {
-            Status::Uncertain
-        } else {
-            Status::Tracking
-        }
     }
 }
 
@@ -298,10 +308,12 @@ pub struct CfTracker<Bn: Binning, const B: usize, const G: usize, const S: usize
     /// Where the target was last seen, or, coasting, where the velocity it had then puts
     /// it now, px, Q16.16.
     anchor: (Q16, Q16),
-    /// The smoothed velocity when the target was lost, px a frame, Q16.16.
+    /// The smoothed velocity when the search began, px a frame, Q16.16.
     lost_velocity: (Q16, Q16),
-    /// Frames lost in a row.
-    lost_frames: usize,
+    /// Frames in a row the target has been searched for.
+    search_frames: usize,
+    /// The last step's merged peak, Q16.16 in `[0, 1]`.
+    peak: Q16,
     estimate: Estimate,
     _binning: PhantomData<Bn>,
 }
@@ -314,6 +326,9 @@ struct Detection {
     moved: (Q16, Q16),
     /// The merged response's peak, Q16.16.
     peak: Q16,
+    /// Its margin: the peak less the best value of the moves beyond its lobe (0 where the
+    /// search has none), Q16.16.
+    margin: Q16,
     /// The colour response at the peak's cell, Q16.16.
     colour: Q16,
     geometry: Geometry,
@@ -349,7 +364,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             velocity: (Q16::ZERO, Q16::ZERO),
             anchor: (Q16::ZERO, Q16::ZERO),
             lost_velocity: (Q16::ZERO, Q16::ZERO),
-            lost_frames: 0,
+            search_frames: 0,
+            peak: Q16::ZERO,
             estimate: Estimate::lost_at(origin),
             _binning: PhantomData,
         }
@@ -440,7 +456,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.velocity = (Q16::ZERO, Q16::ZERO);
         self.anchor = centre;
         self.lost_velocity = (Q16::ZERO, Q16::ZERO);
-        self.lost_frames = 0;
+        self.search_frames = 0;
+        self.peak = Q16::ONE;
         // The least factor is rounded up (one bit above the floored ratio), so that the
         // first box times it is never below MIN_SIDE, and at most 1 (the first box).
         self.factor_bounds = (
@@ -465,6 +482,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         &self.estimate
     }
 
+    /// The last step's merged response peak, Q16.16 in `[0, 1]` (1 on the first box, 0
+    /// before it), which the learning, size and search gates read; the estimate's score is
+    /// its margin.
+    pub fn peak(&self) -> Q16 {
+        self.peak
+    }
+
     /// Tracks one frame (of the size the tracker started on: a frame of another size is
     /// read clamped to its edges). An unstarted tracker returns its estimate unchanged.
     pub fn step<P: PixelFormat>(&mut self, frame: &ImageView<'_, P>) -> Estimate {
@@ -484,8 +508,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
         let c = self.config;
         let previous = self.centre;
-        let lost = self.estimate.status == Status::Lost;
-        if lost && c.coast {
+        let searching = self.search_frames > 0;
+        if searching && c.coast {
             let (x, y) = self.anchor;
             let (vx, vy) = self.lost_velocity;
             self.anchor = self.inside((x.saturating_add(vx), y.saturating_add(vy)));
@@ -498,11 +522,11 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
                 .1
                 .saturating_add(self.velocity.1.saturating_mul(c.lead)),
         ));
-        let search = match lost && c.coast {
+        let search = match searching && c.coast {
             true => self.anchor,
             false => ahead,
         };
-        let ring = match lost {
+        let ring = match searching {
             true => self.search_ring(frame, &mut watch, &mut cycles),
             false => None,
         };
@@ -515,28 +539,39 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             cycles.redetect = cycles.redetect.saturating_add(spent.search());
         }
         self.centre = found.found;
-        let score = found.peak.max(Q16::ZERO).min(Q16::ONE);
+        // The gates read the peak; the score, and so the confidence and the status, the
+        // margin.
+        let peak = found.peak.max(Q16::ZERO).min(Q16::ONE);
+        self.peak = peak;
+        let score = found.margin.max(Q16::ZERO).min(Q16::ONE);
         let confidence = calibration::CORRELATION.confidence(score);
-        let status = c.status(confidence, self.estimate.status);
-        if status == Status::Lost {
-            if self.lost_frames == 0 {
+        let search = peak < c.search_below || (searching && peak < c.search_until);
+        // Once lost, lost while the search lasts, until the confidence reaches
+        // `uncertain_below` (no flicker while the target is hidden).
+        let held = search && self.estimate.status == Status::Lost && confidence < c.uncertain_below;
+        let status = match held {
+            true => Status::Lost,
+            false => Status::of(confidence, c.lost_below, c.uncertain_below),
+        };
+        if search {
+            if self.search_frames == 0 {
                 self.lost_velocity = self.velocity;
             }
-            self.lost_frames = self.lost_frames.saturating_add(1);
+            self.search_frames = self.search_frames.saturating_add(1);
         } else {
-            self.lost_frames = 0;
+            self.search_frames = 0;
             self.anchor = self.centre;
         }
 
         // The scale samples serve a size change (at `scale_above`) and learning (at
-        // `learn_above`): below both, as on a lost frame, they are not taken.
-        let sampled = match score >= c.scale_above || score >= c.learn_above {
+        // `learn_above`): below both they are not taken.
+        let sampled = match peak >= c.scale_above || peak >= c.learn_above {
             true => self
                 .scale
                 .respond(frame, self.centre, self.size, &mut self.extractor),
             false => Q16::ONE,
         };
-        let factor = match score >= c.scale_above {
+        let factor = match peak >= c.scale_above {
             true => sampled,
             false => Q16::ONE,
         }
@@ -546,7 +581,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let old_size = self.size;
         self.resize(self.factor.saturating_mul(factor));
 
-        if score >= c.learn_above {
+        if peak >= c.learn_above {
             let cell = Q16::from_int(c.cell as i32);
             let shift = (
                 found.moved.1.saturating_div(cell),
@@ -662,24 +697,44 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             let m = c.merge.to_bits() as i64;
             (((1 << 16) - m) * cf + m * colour) >> 16
         };
+        // The merged response over the moves, at `[dy + reach_y][dx + reach_x]` (at most
+        // `G - 1` a side), and its best move.
+        let mut values = [[0i32; G]; G];
         let (mut best, mut at) = (i64::MIN, (0, 0));
-        for dy in -reach_y..=reach_y {
-            for dx in -reach_x..=reach_x {
+        for (dy, row) in (-reach_y..=reach_y).zip(values.iter_mut()) {
+            for (dx, slot) in (-reach_x..=reach_x).zip(row.iter_mut()) {
                 let v = merged(dx, dy);
+                *slot = v as i32;
                 if v > best {
                     (best, at) = (v, (dx, dy));
                 }
             }
         }
         let (dx, dy) = at;
+        let value = |x: i32, y: i32| {
+            let get = |v: i32, reach: i32| usize::try_from(v + reach).ok();
+            get(y, reach_y)
+                .and_then(|j| values.get(j))
+                .zip(get(x, reach_x))
+                .and_then(|(row, i)| row.get(i))
+                .map_or(0, |&v| i64::from(v))
+        };
+        // The best move beyond the peak's lobe, 0 where there is none.
+        let beyond = |x: i32, y: i32| (x - dx).abs() > LOBE || (y - dy).abs() > LOBE;
+        let rival = (-reach_y..=reach_y)
+            .flat_map(|y| (-reach_x..=reach_x).map(move |x| (x, y)))
+            .filter(|&(x, y)| beyond(x, y))
+            .map(|(x, y)| value(x, y))
+            .max()
+            .unwrap_or(0);
         let between = |at: i32, reach: i32, value: &dyn Fn(i32) -> i64| {
             if at <= -reach || at >= reach {
                 return Q16::ZERO;
             }
             parabola_peak(value(at - 1), best, value(at + 1))
         };
-        let fx = between(dx, reach_x, &|x| merged(x, dy));
-        let fy = between(dy, reach_y, &|y| merged(dx, y));
+        let fx = between(dx, reach_x, &|x| value(x, dy));
+        let fy = between(dy, reach_y, &|y| value(dx, y));
         // The move, patch px, then frame px.
         let moved = (
             cell.mul_int(dx).saturating_add(fx.saturating_mul(cell)),
@@ -709,12 +764,13 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             ),
             found,
             peak: Q16::saturate(best),
+            margin: Q16::saturate(best - rival),
             colour,
             geometry,
         }
     }
 
-    /// While lost: searches the anchor's region (an occluded target reappears where it was
+    /// While searching: searches the anchor's region (an occluded target reappears where it was
     /// last seen) and the next `redetect` regions of the ring around it (none of them
     /// when `redetect` is 0), and returns the centre and peak of the first with the best
     /// peak of those that clear `redetect_above` and `redetect_colour`, if any. Its work
@@ -729,8 +785,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let region = self.geometry().region;
         let half = |side: Q16, k: i32| Q16::from_bits(side.to_bits() / 2).mul_int(k);
         let mut best: Option<((Q16, Q16), Q16)> = None;
-        // Each lost frame starts where the last one stopped.
-        let first = self.lost_frames % RING.len() * c.redetect;
+        // Each frame of a search starts where the last one stopped.
+        let first = self.search_frames % RING.len() * c.redetect;
         let ring = (0..c.redetect).map(|k| RING[(first + k) % RING.len()]);
         let offsets = core::iter::once((0, 0))
             .filter(|_| c.redetect > 0)

@@ -25,9 +25,23 @@ pub enum Status {
     /// Confidence in `[lost_below, uncertain_below)`; like `Lost`, a particle filter
     /// searches the whole frame with part of its particles.
     Uncertain = 1,
-    /// Confidence below `lost_below` (the correlation filter: and, once lost, until
-    /// `uncertain_below`).
+    /// Confidence below `lost_below` (the correlation filter: and, once lost, while it
+    /// searches, until `uncertain_below`).
     Lost = 0,
+}
+
+impl Status {
+    /// The status of `confidence`: lost below `lost_below`, uncertain below
+    /// `uncertain_below`, else tracking; the same rule for every tracker.
+    pub const fn of(confidence: Q16, lost_below: Q16, uncertain_below: Q16) -> Self {
+        if confidence.to_bits() < lost_below.to_bits() {
+            Status::Lost
+        } else if confidence.to_bits() < uncertain_below.to_bits() {
+            Status::Uncertain
+        } else {
+            Status::Tracking
+        }
+    }
 }
 
 /// Where the target is after a step.
@@ -43,7 +57,8 @@ pub struct Estimate {
     /// The tracker's own score of the estimate, Q16.16 in `[0, 1]`: a particle filter's
     /// Bhattacharyya coefficient of the estimate's window against the model, less
     /// `spread_penalty` times the particles' spread ([`super::Config::spread_penalty`]);
-    /// the correlation filter's merged response peak.
+    /// the correlation filter's merged response margin (its peak less the best move
+    /// beyond the peak's lobe, [`super::correlation::LOBE`]).
     pub score: Q16,
     /// The score through the tracker's [`super::Calibration`]: about the chance that the
     /// estimate's box overlaps the target's by an IoU of at least 0.5, the same for every
@@ -148,13 +163,11 @@ impl<Bn: Binning, const N: usize, const B: usize> Tracker<Bn, N, B> {
 
     /// The status a window of coefficient `confidence` gives the estimate.
     fn status(&self, confidence: Q16) -> Status {
-        if confidence < self.config.lost_below {
-            Status::Lost
-        } else if confidence < self.config.uncertain_below {
-            Status::Uncertain
-        } else {
-            Status::Tracking
-        }
+        Status::of(
+            confidence,
+            self.config.lost_below,
+            self.config.uncertain_below,
+        )
     }
 
     /// While tracking, `estimate` is the last confident one and moves the innovation mean
@@ -240,6 +253,27 @@ mod tests {
     use super::super::{Config, Status, Tracker, Variant};
     use super::*;
     use crate::image::{Gray8, Luma64};
+
+    #[test]
+    fn the_status_is_the_confidence_against_the_two_thresholds() {
+        let (lost, uncertain) = (Q16::from_ratio(1, 5), Q16::from_ratio(1, 2));
+        let just_below = |q: Q16| Q16::from_bits(q.to_bits() - 1);
+        let cases = [
+            (Q16::ZERO, Status::Lost),
+            (just_below(lost), Status::Lost),
+            (lost, Status::Uncertain),
+            (just_below(uncertain), Status::Uncertain),
+            (uncertain, Status::Tracking),
+            (Q16::ONE, Status::Tracking),
+        ];
+        for (confidence, want) in cases {
+            assert_eq!(
+                Status::of(confidence, lost, uncertain),
+                want,
+                "{confidence:?}"
+            );
+        }
+    }
 
     /// A bright 20 px square on a dark 64x48 frame, and the ellipse on it.
     fn square() -> ([u8; 64 * 48], Ellipse) {

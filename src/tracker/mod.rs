@@ -6,8 +6,9 @@
 //! - [`CfTracker`], the correlation-filter tracker (Staple class; [`RgbCfTracker`] at its
 //!   defaults, the most accurate): a translation filter on per-cell luma and gradient
 //!   features and a colour model answer over a search region, their merged peak is the
-//!   new position and the score, and a scale filter finds the size there; while the
-//!   target is lost it searches more regions around where it was last seen. Its parts are
+//!   new position and its margin over the rest of the response the score, and a scale
+//!   filter finds the size there; while the peak is low it searches more regions around
+//!   where the target was last seen. Its parts are
 //!   in [`crate::cf`], its step in `correlation.rs`.
 //! - [`Tracker`], the colour particle filter and the Rao-Blackwellised particle filter
 //!   (RBPF): one engine with a [`Variant`] switch, described below.

@@ -383,22 +383,27 @@ pub struct rbt_cf_config {
     pub scale_rate: rbt_q16,
     /// Largest change of size in a frame, a factor, Q16.16 at least 1.
     pub max_scale_change: rbt_q16,
-    /// Learn only from frames whose confidence is at least this, Q16.16.
+    /// Learn only from frames whose merged peak is at least this, Q16.16.
     pub learn_above: rbt_q16,
     /// Status uncertain below this confidence, Q16.16 in [0, 1].
     pub uncertain_below: rbt_q16,
-    /// Status lost below this confidence (and until `uncertain_below` again), Q16.16.
+    /// Status lost below this confidence, Q16.16 in [0, uncertain_below].
     pub lost_below: rbt_q16,
-    /// Ring regions searched besides the usual one each frame while lost, 0..=8; when
+    /// Search for the target below this merged peak, Q16.16 in [0, search_until]...
+    pub search_below: rbt_q16,
+    /// ...until the peak reaches this, Q16.16 in [0, 1].
+    pub search_until: rbt_q16,
+    /// Ring regions searched besides the usual one each frame of a search, 0..=8; when
     /// above 0, the region where the target was last seen too.
     pub redetect: u32,
     /// A searched region takes over when its merged peak is at least this, Q16.16...
     pub redetect_above: rbt_q16,
     /// ...and its colour score at least this, Q16.16.
     pub redetect_colour: rbt_q16,
-    /// While lost, search where the velocity it had when lost puts the target (flag).
+    /// While searching, search where the velocity it had when the search began puts the
+    /// target (flag).
     pub coast: u8,
-    /// Change the size only on frames whose confidence is at least this, Q16.16.
+    /// Change the size only on frames whose merged peak is at least this, Q16.16.
     pub scale_above: rbt_q16,
     /// Centre the search this share of the smoothed velocity ahead, Q16.16 in [0, 1].
     pub lead: rbt_q16,
@@ -420,6 +425,8 @@ macro_rules! cf_q16_fields {
             learn_above,
             uncertain_below,
             lost_below,
+            search_below,
+            search_until,
             redetect_above,
             redetect_colour,
             scale_above,

@@ -43,9 +43,9 @@ pub(super) unsafe fn ellipse(rect: *const rbt_rect) -> Result<Ellipse, rbt_error
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum rbt_status {
-    /// Confidence below `lost_below`: the target is hidden or gone; the tracker searches.
+    /// Confidence below `lost_below`: the target is hidden, gone or confused with another.
     RBT_STATUS_LOST = 0,
-    /// Confidence in `[lost_below, uncertain_below)`: the tracker searches too.
+    /// Confidence in `[lost_below, uncertain_below)`.
     RBT_STATUS_UNCERTAIN = 1,
     /// Confidence at or above `uncertain_below`.
     RBT_STATUS_TRACKING = 2,
@@ -70,7 +70,8 @@ pub struct rbt_estimate {
     /// Vertical velocity, px/frame, Q16.16.
     pub vy: rbt_q16,
     /// The tracker's own score, Q16.16 in [0, 1]: a particle filter's colour coefficient
-    /// less the particles' spread, the correlation filter's response peak.
+    /// less the particles' spread, the correlation filter's merged response margin (its
+    /// peak less the best move beyond the peak's lobe).
     pub score: rbt_q16,
     /// The score through the tracker's calibration: about the chance that the box
     /// overlaps the target's by an IoU of at least 0.5, alike for every tracker; it sets

@@ -231,11 +231,11 @@ pub const RBT_TRACKER_LUMA_100_SIZE: usize = 32080;
 /// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 /// scales, 512 RGB bins (8x8x8) (32-bit targets).
 #[cfg(target_pointer_width = "32")]
-pub const RBT_TRACKER_CF_SIZE: usize = 91312;
+pub const RBT_TRACKER_CF_SIZE: usize = 91328;
 /// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
 /// scales, 512 RGB bins (8x8x8) (64-bit targets).
 #[cfg(target_pointer_width = "64")]
-pub const RBT_TRACKER_CF_SIZE: usize = 91408;
+pub const RBT_TRACKER_CF_SIZE: usize = 91416;
 /// Alignment of every tracker's memory, bytes.
 pub const RBT_TRACKER_ALIGN: usize = 8;
 

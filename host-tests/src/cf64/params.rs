@@ -4,7 +4,7 @@
 use super::fhog::{Gradients, Hog, Magnitude, Spread};
 use super::image::Resample;
 use crate::fields::{self, field_table, FieldValue};
-use rbtrack::tracker::calibration;
+use rbtrack::tracker::{calibration, CfConfig};
 use serde_json::Value;
 
 /// The tracker's settings. [`Params::default`] is the configuration the measurements in
@@ -78,19 +78,24 @@ pub struct Params {
     pub learn_above: f64,
     /// Change the size only on frames whose score is at least this.
     pub scale_above: f64,
-    /// While lost, search where the target would be had it kept its velocity.
+    /// While searching, search where the target would be had it kept its velocity.
     pub coast: bool,
     /// The search is centred this share of the smoothed velocity ahead.
     pub lead: f64,
     /// Below this confidence the target is uncertain.
     pub uncertain_below: f64,
-    /// Below this confidence it is lost; once lost, it stays lost until the confidence
-    /// reaches `uncertain_below`.
+    /// Below this confidence it is lost; once lost, it stays lost while the search lasts,
+    /// until the confidence reaches `uncertain_below`.
     pub lost_below: f64,
-    /// Ring regions searched per frame while lost, besides the usual one and, when above
-    /// 0, the anchor's (0: no re-detection).
+    /// Below this merged peak the target is searched for, until the peak reaches
+    /// `search_until`.
+    pub search_below: f64,
+    /// The merged peak that ends a search.
+    pub search_until: f64,
+    /// Ring regions searched per frame while searching, besides the usual one and, when
+    /// above 0, the anchor's (0: no re-detection).
     pub redetect: usize,
-    /// A region searched while lost takes over when its score is at least this...
+    /// A region searched takes over when its merged peak is at least this...
     pub redetect_above: f64,
     /// ...and its colour response there at least this.
     pub redetect_colour: f64,
@@ -145,6 +150,8 @@ impl Default for Params {
             lead: 0.0,
             uncertain_below: calibration::UNCERTAIN_BELOW.to_f64(),
             lost_below: calibration::LOST_BELOW.to_f64(),
+            search_below: CfConfig::default().search_below.to_f64(),
+            search_until: CfConfig::default().search_until.to_f64(),
             redetect: 0,
             redetect_above: 0.3,
             redetect_colour: 0.5,
@@ -231,6 +238,8 @@ pub static FIELDS: &[Field] = field_table! {
     lead,
     uncertain_below,
     lost_below,
+    search_below,
+    search_until,
     redetect,
     redetect_above,
     redetect_colour,
@@ -293,6 +302,12 @@ impl Params {
             (0.0..=self.uncertain_below).contains(&self.lost_below),
             "lost_below",
             "in 0..=uncertain_below",
+        )?;
+        check(rate(self.search_until), "search_until", "in 0..=1")?;
+        check(
+            (0.0..=self.search_until).contains(&self.search_below),
+            "search_below",
+            "in 0..=search_until",
         )?;
         check(self.redetect <= 8, "redetect", "in 0..=8")?;
         check(self.particles <= 10_000, "particles", "in 0..=10000")?;
@@ -394,6 +409,8 @@ impl Params {
             scale_above: q(c.scale_above),
             uncertain_below: q(c.uncertain_below),
             lost_below: q(c.lost_below),
+            search_below: q(c.search_below),
+            search_until: q(c.search_until),
             redetect: c.redetect,
             redetect_above: q(c.redetect_above),
             redetect_colour: q(c.redetect_colour),
@@ -457,6 +474,8 @@ impl Params {
             scale_above: q(self.scale_above),
             uncertain_below: q(self.uncertain_below),
             lost_below: q(self.lost_below),
+            search_below: q(self.search_below),
+            search_until: q(self.search_until),
             redetect: self.redetect,
             redetect_above: q(self.redetect_above),
             redetect_colour: q(self.redetect_colour),

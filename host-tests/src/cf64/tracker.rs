@@ -17,6 +17,10 @@ use rbtrack::tracker::{calibration, Status};
 /// Smallest target side, px.
 const MIN_SIDE: f64 = 4.0;
 
+/// Moves within this many cells of the merged response's peak, each way, lie in its lobe;
+/// the margin is taken over those beyond.
+pub const LOBE: usize = 2;
+
 /// The tracker's answer for one frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Output {
@@ -24,8 +28,9 @@ pub struct Output {
     pub bbox: BBox,
     /// The move since the last frame, px (right, down).
     pub velocity: (f64, f64),
-    /// The tracker's score, `0..=1`: the merged response's peak, the translation
-    /// filter's answer and the colour score there weighed by `merge`.
+    /// The tracker's score, `0..=1`: the merged response's margin, its peak (the
+    /// translation filter's answer and the colour score there weighed by `merge`) less the
+    /// best value of the moves beyond the peak's lobe ([`LOBE`]).
     pub score: f64,
     /// The score through the core's correlation-filter table
     /// ([`rbtrack::tracker::calibration::CORRELATION`]), `0..=1`.
@@ -51,13 +56,13 @@ pub struct Tracker {
     base: (f64, f64),
     factor_bounds: (f64, f64),
     last: Output,
-    /// Frames in a row the target has been lost.
-    lost_frames: usize,
-    /// Where the target was last seen not lost, px.
+    /// Frames in a row the target has been searched for.
+    search_frames: usize,
+    /// Where the target was last seen before a search, px.
     anchor: (f64, f64),
     /// Running mean of its moves, px a frame.
     velocity: (f64, f64),
-    /// That velocity when the target was lost.
+    /// That velocity when the search began.
     lost_velocity: (f64, f64),
     /// Particles on the merged response, with `particles`.
     particles: Option<Particles>,
@@ -76,6 +81,9 @@ struct Detection {
     moved: (f64, f64),
     /// The merged response's peak.
     peak: f64,
+    /// Its margin: the peak less the best value of the moves beyond its lobe, or the peak
+    /// where the search has none.
+    margin: f64,
     /// The colour response there.
     colour: f64,
     /// The merged response over the moves searched, `(2 reach.0 + 1) (2 reach.1 + 1)`
@@ -206,7 +214,7 @@ impl Tracker {
                 confidence: calibrated(1.0),
                 status: Status::Tracking,
             },
-            lost_frames: 0,
+            search_frames: 0,
             anchor: centre,
             velocity: (0.0, 0.0),
             lost_velocity: (0.0, 0.0),
@@ -267,6 +275,12 @@ impl Tracker {
             .max_by(|&a, &b| merged[a].total_cmp(&merged[b]))
             .unwrap_or(0);
         let (by, bx) = (best / side, best % side);
+        let beyond = |i: usize| by.abs_diff(i / side) > LOBE || bx.abs_diff(i % side) > LOBE;
+        let rival = (0..merged.len())
+            .filter(|&i| beyond(i))
+            .map(|i| merged[i])
+            .reduce(f64::max)
+            .unwrap_or(0.0);
         let fx = parabola_peak(bx, side, |x| merged[by * side + x]);
         let fy = parabola_peak(by, rows, |y| merged[y * side + bx]);
         let (dy, dx) = (by as i64 - reach.1, bx as i64 - reach.0);
@@ -279,6 +293,7 @@ impl Tracker {
             moved: ((found.0 - centre.0) * zoom.0, (found.1 - centre.1) * zoom.1),
             found,
             peak: merged[best],
+            margin: merged[best] - rival,
             colour: colour_at(dy, dx),
             geometry,
             colours,
@@ -293,15 +308,15 @@ impl Tracker {
     pub fn step(&mut self, frame: &RgbImage) -> Output {
         let p = self.params;
         let previous = self.centre;
-        let lost = self.last.status == Status::Lost;
-        if lost && p.coast {
-            // Where the target would be had it kept its velocity since it was lost.
+        let searching = self.search_frames > 0;
+        if searching && p.coast {
+            // Where the target would be had it kept its velocity since the search began.
             self.anchor = (
                 (self.anchor.0 + self.lost_velocity.0).clamp(0.0, self.frame_size.0 - 1.0),
                 (self.anchor.1 + self.lost_velocity.1).clamp(0.0, self.frame_size.1 - 1.0),
             );
         }
-        let predicted = match lost && p.coast {
+        let predicted = match searching && p.coast {
             true => self.anchor,
             false => (
                 self.centre.0 + p.lead * self.velocity.0,
@@ -320,7 +335,7 @@ impl Tracker {
             predicted.1.clamp(0.0, self.frame_size.1 - 1.0),
         );
         let mut found = self.detect(frame, predicted);
-        if lost {
+        if searching {
             found = self.redetect(frame, found);
         }
         self.centre = found.found;
@@ -339,21 +354,28 @@ impl Tracker {
                 (self.centre.1 - found.centre.1) * zoom.1,
             );
         }
-        let score = found.peak.clamp(0.0, 1.0);
+        // The gates read the peak; the score, and so the confidence and the status, the
+        // margin.
+        let peak = found.peak.clamp(0.0, 1.0);
+        let score = found.margin.clamp(0.0, 1.0);
         let confidence = calibrated(score);
-        // Once lost, lost until the confidence clears `uncertain_below`.
+        // A search begins below `search_below` and lasts until `search_until`; once lost,
+        // the target stays lost while it lasts, until the confidence clears
+        // `uncertain_below`.
+        let search = peak < p.search_below || (searching && peak < p.search_until);
+        let held = search && self.last.status == Status::Lost;
         let status = match confidence {
-            c if c < p.lost_below || (lost && c < p.uncertain_below) => Status::Lost,
+            c if c < p.lost_below || (held && c < p.uncertain_below) => Status::Lost,
             c if c < p.uncertain_below => Status::Uncertain,
             _ => Status::Tracking,
         };
-        if status == Status::Lost {
-            if self.lost_frames == 0 {
+        if search {
+            if self.search_frames == 0 {
                 self.lost_velocity = self.velocity;
             }
-            self.lost_frames += 1;
+            self.search_frames += 1;
         } else {
-            self.lost_frames = 0;
+            self.search_frames = 0;
             self.anchor = self.centre;
         }
 
@@ -378,11 +400,11 @@ impl Tracker {
             (z, i, f)
         });
         let old_size = self.size;
-        if let Some((_, _, f)) = scales.as_ref().filter(|_| score >= p.scale_above) {
+        if let Some((_, _, f)) = scales.as_ref().filter(|_| peak >= p.scale_above) {
             self.size = (self.base.0 * *f, self.base.1 * *f);
         }
 
-        let learn = score >= p.learn_above;
+        let learn = peak >= p.learn_above;
         if !learn {
             // Not sure enough of this frame to learn from it.
         } else if p.fresh_patch {
@@ -421,7 +443,7 @@ impl Tracker {
         self.last
     }
 
-    /// While lost (with `redetect` above 0): the region where the target was last seen
+    /// While searching (with `redetect` above 0): the region where the target was last seen
     /// (the anchor: an occluded target reappears there) and `redetect` more around it, the
     /// next ones of a ring of 8 each frame, each half a region away; the best of them
     /// replaces `found` if its peak and colour score clear their thresholds and its peak
@@ -442,7 +464,9 @@ impl Tracker {
         // The anchor itself first (where a hidden target reappears), then the ring.
         let offsets = std::iter::once((0.0, 0.0))
             .filter(|_| p.redetect > 0)
-            .chain((0..p.redetect).map(|k| RING[(self.lost_frames * p.redetect + k) % RING.len()]));
+            .chain(
+                (0..p.redetect).map(|k| RING[(self.search_frames * p.redetect + k) % RING.len()]),
+            );
         let mut best = found;
         for (ox, oy) in offsets {
             let centre = (

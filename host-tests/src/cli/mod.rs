@@ -313,6 +313,8 @@ fn cf_json(cf: &CoreCf) -> serde_json::Value {
         "scale_above": q(c.scale_above),
         "uncertain_below": q(c.uncertain_below),
         "lost_below": q(c.lost_below),
+        "search_below": q(c.search_below),
+        "search_until": q(c.search_until),
         "redetect": c.redetect,
         "redetect_above": q(c.redetect_above),
         "redetect_colour": q(c.redetect_colour),
