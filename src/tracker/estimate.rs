@@ -57,8 +57,8 @@ pub struct Estimate {
     /// The tracker's own score of the estimate, Q16.16 in `[0, 1]`: a particle filter's
     /// Bhattacharyya coefficient of the estimate's window against the model, less
     /// `spread_penalty` times the particles' spread ([`super::Config::spread_penalty`]);
-    /// the correlation filter's merged response margin (its peak less the best move
-    /// beyond the peak's lobe, [`super::correlation::LOBE`]).
+    /// the correlation filter's merged response margin (its peak less the best value of
+    /// the moves more than 2 cells from it, [`super::CfTracker`]).
     pub score: Q16,
     /// The score through the tracker's [`super::Calibration`]: about the chance that the
     /// estimate's box overlaps the target's by an IoU of at least 0.5, the same for every
