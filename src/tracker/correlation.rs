@@ -545,15 +545,17 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         self.peak = peak;
         let score = found.margin.max(Q16::ZERO).min(Q16::ONE);
         let confidence = calibration::CORRELATION.confidence(score);
-        let search = peak < c.search_below || (searching && peak < c.search_until);
+        let still_searching = peak < c.search_below || (searching && peak < c.search_until);
         // Once lost, lost while the search lasts, until the confidence reaches
         // `uncertain_below` (no flicker while the target is hidden).
-        let held = search && self.estimate.status == Status::Lost && confidence < c.uncertain_below;
+        let held = still_searching
+            && self.estimate.status == Status::Lost
+            && confidence < c.uncertain_below;
         let status = match held {
             true => Status::Lost,
             false => Status::of(confidence, c.lost_below, c.uncertain_below),
         };
-        if search {
+        if still_searching {
             if self.search_frames == 0 {
                 self.lost_velocity = self.velocity;
             }
@@ -770,8 +772,8 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
     }
 
-    /// While searching: searches the anchor's region (an occluded target reappears where it was
-    /// last seen) and the next `redetect` regions of the ring around it (none of them
+    /// While searching: searches the anchor's region (an occluded target reappears where it
+    /// was last seen) and the next `redetect` regions of the ring around it (none of them
     /// when `redetect` is 0), and returns the centre and peak of the first with the best
     /// peak of those that clear `redetect_above` and `redetect_colour`, if any. Its work
     /// is `cycles.redetect`.
