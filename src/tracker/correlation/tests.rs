@@ -216,6 +216,31 @@ fn a_look_alike_beside_the_target_lowers_the_score_more_than_the_peak() {
     );
 }
 
+/// With little context (padding 0.25) the search reaches no move beyond the peak's lobe:
+/// the score is then the peak itself.
+#[test]
+fn without_moves_beyond_the_lobe_the_score_is_the_peak() {
+    let first = frame(20);
+    let view = ImageView::<Gray8>::new(&first, 96, 72, 96).unwrap();
+    let config = CfConfig {
+        padding: Q16::from_ratio(1, 4),
+        ..CfConfig::default()
+    };
+    let mut tracker = Small::new(config, &view, Rect::new(20, 26, 16, 20)).unwrap();
+    let reach = |t: &Small| {
+        let g = t.geometry();
+        let side = Q16::from_int((16 * config.cell) as i32);
+        side.saturating_sub(g.target.0.max(g.target.1)).to_f64() / 2.0 / config.cell as f64
+    };
+    assert!(reach(&tracker) < f64::from(LOBE + 1), "{}", reach(&tracker));
+    for x0 in [21, 22, 23] {
+        let buf = frame(x0);
+        let e = tracker.step(&ImageView::<Gray8>::new(&buf, 96, 72, 96).unwrap());
+        assert!(tracker.peak() > Q16::ZERO);
+        assert_eq!(e.score, tracker.peak(), "block at {x0}");
+    }
+}
+
 /// A search begins when the peak falls below `search_below` and lasts until it reaches
 /// `search_until`, whatever the status.
 #[test]
