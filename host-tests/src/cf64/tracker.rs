@@ -362,14 +362,14 @@ impl Tracker {
         // A search begins below `search_below` and lasts until `search_until`; once lost,
         // the target stays lost while it lasts, until the confidence clears
         // `uncertain_below`.
-        let search = peak < p.search_below || (searching && peak < p.search_until);
-        let held = search && self.last.status == Status::Lost;
+        let still_searching = peak < p.search_below || (searching && peak < p.search_until);
+        let held = still_searching && self.last.status == Status::Lost;
         let status = match confidence {
             c if c < p.lost_below || (held && c < p.uncertain_below) => Status::Lost,
             c if c < p.uncertain_below => Status::Uncertain,
             _ => Status::Tracking,
         };
-        if search {
+        if still_searching {
             if self.search_frames == 0 {
                 self.lost_velocity = self.velocity;
             }
