@@ -380,8 +380,8 @@ typedef struct {
   rbt_q16 search_below;
   // ...until the peak reaches this, Q16.16 in [0, 1].
   rbt_q16 search_until;
-  // Ring regions searched besides the usual one each frame of a search, 0..=8; when
-  // above 0, the region where the target was last seen too.
+  // Ring regions a search visits between two searches of the region where the target
+  // was last seen, one region a frame besides the usual one, 0..=8 (0: no re-detection).
   uint32_t redetect;
   // A searched region takes over when its merged peak is at least this, Q16.16...
   rbt_q16 redetect_above;

@@ -28,19 +28,23 @@
 //!    and the scale samples.
 //!
 //! When the merged peak falls below `search_below` the tracker searches for the target
-//! until a peak reaches `search_until`: where it was last seen (the anchor: an occluded
-//! target reappears there, while the usual search follows the best peak, often the
-//! occluder) and `redetect` more regions a frame, on a ring half a region around the
-//! anchor, and it may centre its searches where the velocity it had when the search began
-//! puts it (`coast`); such a region takes over only when its merged peak and colour score
-//! clear `redetect_above` and `redetect_colour` and its peak beats the usual region's.
+//! until a peak reaches `search_until`. Each frame of a search searches one region
+//! besides the usual one ([`search_offset`]): where the target was last seen (the anchor:
+//! an occluded target reappears there, while the usual search follows the best peak,
+//! often the occluder) for its first [`ANCHOR_FRAMES`] frames, then the anchor's and
+//! `redetect` regions of a ring half a region around it in turn; it may centre its
+//! searches where the velocity it had when the search began puts it (`coast`). Such a
+//! region takes over only when its merged peak and colour score clear `redetect_above`
+//! and `redetect_colour` and its peak beats the usual region's; the frame it takes over
+//! only moves the target (nothing is learnt), and no frame of a search takes scale
+//! samples (the size holds).
 //! The search follows the peak, the status the margin: a look-alike beside the target
 //! lowers the status while the tracker stays where it is; once `Lost`, the status stays
 //! so while the search lasts, until the confidence reaches `uncertain_below`.
-//! A frame's work is then at most `redetect + 3` searches (the anchor's, the ring, the
-//! usual region and, when another region takes over, that region again so that the
-//! filter learns its spectra). By default it searches 2 ring regions a frame and does not
-//! coast (docs/accuracy.md measures both).
+//! A frame of a search is then at most 2 searches and the filter's and colour model's
+//! learning (1.93 M instructions on a lost frame at the defaults, against 2.11 M on the
+//! mean tracked frame: `examples/budget.rs`). By default the ring has 2 regions between
+//! the anchor's and the search does not coast (docs/accuracy.md measures both).
 //!
 //! # Memory
 //! `size_of::<CfTracker<Bn, B, G, S>>()` is dominated by the translation filter (its
@@ -78,6 +82,31 @@ const RING: [(i32, i32); 8] = [
     (1, -1),
     (-1, 1),
 ];
+
+/// The frames of a search that search the anchor's region alone besides the usual one: an
+/// occluded target reappears where it was last seen within about this many frames; one
+/// lost for longer is looked for on the ring too.
+pub const ANCHOR_FRAMES: usize = 20;
+
+/// The region a search frame searches besides the usual one, as an offset from the anchor
+/// in half regions (`(0, 0)` the anchor's own), or `None` with `redetect` 0: frame `k` of
+/// a search (from 0) searches the anchor's for the first [`ANCHOR_FRAMES`] frames, then
+/// the anchor's and `redetect` ring regions in turn, one a frame.
+pub fn search_offset(k: usize, redetect: usize) -> Option<(i32, i32)> {
+    if redetect == 0 {
+        return None;
+    }
+    let Some(k) = k.checked_sub(ANCHOR_FRAMES) else {
+        return Some((0, 0));
+    };
+    // A round is the anchor's region and `redetect` ring regions.
+    let round = redetect.saturating_add(1);
+    let (n, j) = (k / round, k % round);
+    Some(match j.checked_sub(1) {
+        None => (0, 0),
+        Some(j) => RING[n.wrapping_mul(redetect).wrapping_add(j) % RING.len()],
+    })
+}
 
 /// The correlation-filter tracker's settings. [`CfConfig::default`] is the configuration
 /// docs/accuracy.md measures.
@@ -128,9 +157,10 @@ pub struct CfConfig {
     pub search_below: Q16,
     /// The merged peak that ends a search, Q16.16 in `[0, 1]`.
     pub search_until: Q16,
-    /// Ring regions searched besides the usual one each frame of a search, `0..=8`: the
-    /// next of a ring of 8, each half a region from where the target was last seen; when
-    /// above 0, that region itself too (0: no re-detection).
+    /// Ring regions a search visits between two searches of the anchor's region, one
+    /// region a frame besides the usual one ([`search_offset`]), `0..=8`: the next of a
+    /// ring of 8, each half a region from where the target was last seen (0: no
+    /// re-detection, not even the anchor's).
     pub redetect: usize,
     /// A searched region takes over when its merged peak is at least this, Q16.16...
     pub redetect_above: Q16,
@@ -526,18 +556,17 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             true => self.anchor,
             false => ahead,
         };
-        let ring = match searching {
-            true => self.search_ring(frame, &mut watch, &mut cycles),
+        let more = match searching {
+            true => self.search_more(frame, &mut watch, &mut cycles),
             false => None,
         };
-        let mut found = self.detect(frame, search, &mut watch, &mut cycles);
-        if let Some((centre, _)) = ring.filter(|&(_, peak)| peak > found.peak) {
-            // Searched again (the same detection) so that the filter holds this region's
-            // spectra to learn.
-            let mut spent = CfStageCycles::default();
-            found = self.detect(frame, centre, &mut watch, &mut spent);
-            cycles.redetect = cycles.redetect.saturating_add(spent.search());
-        }
+        let usual = self.detect(frame, search, &mut watch, &mut cycles);
+        // A region other than the usual one that takes over only moves the target: the
+        // models hold the usual region's spectra and colours, and learn nothing this frame.
+        let (found, taken_over) = match more.filter(|d| d.peak > usual.peak) {
+            Some(d) => (d, true),
+            None => (usual, false),
+        };
         self.centre = found.found;
         // The gates read the peak; the score, and so the confidence and the status, the
         // margin.
@@ -566,15 +595,17 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
 
         // The scale samples serve a size change (at `scale_above`) and learning (at
-        // `learn_above`): below both they are not taken.
-        let sampled = match peak >= c.scale_above || peak >= c.learn_above {
+        // `learn_above`): below both, and on a search frame, they are not taken.
+        let learn = peak >= c.learn_above && !taken_over;
+        let sampled = !searching && (peak >= c.scale_above || learn);
+        let factor = match sampled {
             true => self
                 .scale
                 .respond(frame, self.centre, self.size, &mut self.extractor),
             false => Q16::ONE,
         };
-        let factor = match peak >= c.scale_above {
-            true => sampled,
+        let factor = match sampled && peak >= c.scale_above {
+            true => factor,
             false => Q16::ONE,
         }
         .max(Q16::ONE.saturating_div(c.max_scale_change))
@@ -583,7 +614,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         let old_size = self.size;
         self.resize(self.factor.saturating_mul(factor));
 
-        if peak >= c.learn_above {
+        if learn {
             let cell = Q16::from_int(c.cell as i32);
             let shift = (
                 found.moved.1.saturating_div(cell),
@@ -591,7 +622,9 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
             );
             self.filter.learn(shift, c.cf_rate);
             self.learn_colour(frame, &found.geometry, found.moved, old_size, c.colour_rate);
-            self.scale.learn(c.scale_rate);
+            if sampled {
+                self.scale.learn(c.scale_rate);
+            }
         }
         cycles.learn = watch.lap();
         let velocity = (
@@ -772,41 +805,27 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         }
     }
 
-    /// While searching: searches the anchor's region (an occluded target reappears where it
-    /// was last seen) and the next `redetect` regions of the ring around it (none of them
-    /// when `redetect` is 0), and returns the centre and peak of the first with the best
-    /// peak of those that clear `redetect_above` and `redetect_colour`, if any. Its work
-    /// is `cycles.redetect`.
-    fn search_ring<P: PixelFormat, C: CycleCounter>(
+    /// While searching: searches the region [`search_offset`] names for this frame of the
+    /// search (none when `redetect` is 0) and returns it if it clears `redetect_above` and
+    /// `redetect_colour`. Its work is `cycles.redetect`.
+    fn search_more<P: PixelFormat, C: CycleCounter>(
         &mut self,
         frame: &ImageView<'_, P>,
         watch: &mut Stopwatch<C>,
         cycles: &mut CfStageCycles,
-    ) -> Option<((Q16, Q16), Q16)> {
+    ) -> Option<Detection> {
         let c = self.config;
+        let (ox, oy) = search_offset(self.search_frames.saturating_sub(1), c.redetect)?;
         let region = self.geometry().region;
         let half = |side: Q16, k: i32| Q16::from_bits(side.to_bits() / 2).mul_int(k);
-        let mut best: Option<((Q16, Q16), Q16)> = None;
-        // Each frame of a search starts where the last one stopped.
-        let first = self.search_frames % RING.len() * c.redetect;
-        let ring = (0..c.redetect).map(|k| RING[(first + k) % RING.len()]);
-        let offsets = core::iter::once((0, 0))
-            .filter(|_| c.redetect > 0)
-            .chain(ring);
-        for (ox, oy) in offsets {
-            let centre = self.inside((
-                self.anchor.0.saturating_add(half(region.0, ox)),
-                self.anchor.1.saturating_add(half(region.1, oy)),
-            ));
-            let mut spent = CfStageCycles::default();
-            let d = self.detect(frame, centre, watch, &mut spent);
-            cycles.redetect = cycles.redetect.saturating_add(spent.search());
-            let clears = d.peak >= c.redetect_above && d.colour >= c.redetect_colour;
-            if clears && best.is_none_or(|(_, peak)| d.peak > peak) {
-                best = Some((centre, d.peak));
-            }
-        }
-        best
+        let centre = self.inside((
+            self.anchor.0.saturating_add(half(region.0, ox)),
+            self.anchor.1.saturating_add(half(region.1, oy)),
+        ));
+        let mut spent = CfStageCycles::default();
+        let d = self.detect(frame, centre, watch, &mut spent);
+        cycles.redetect = cycles.redetect.saturating_add(spent.search());
+        (d.peak >= c.redetect_above && d.colour >= c.redetect_colour).then_some(d)
     }
 
     /// `point` (px, Q16.16) clamped into the frame.

@@ -109,7 +109,7 @@ pub use crate::resample::Scheme;
 pub use calibration::Calibration;
 pub use camera::CameraMotion;
 pub use config::{Config, ConfigError, CueMix, Readout, SizeMeasurement, Variant};
-pub use correlation::{CfConfig, CfTracker};
+pub use correlation::{search_offset, CfConfig, CfTracker, ANCHOR_FRAMES};
 pub use estimate::{Estimate, Status};
 pub use model::TargetModel;
 pub use particle::Particle;

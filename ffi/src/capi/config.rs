@@ -393,8 +393,8 @@ pub struct rbt_cf_config {
     pub search_below: rbt_q16,
     /// ...until the peak reaches this, Q16.16 in [0, 1].
     pub search_until: rbt_q16,
-    /// Ring regions searched besides the usual one each frame of a search, 0..=8; when
-    /// above 0, the region where the target was last seen too.
+    /// Ring regions a search visits between two searches of the region where the target
+    /// was last seen, one region a frame besides the usual one, 0..=8 (0: no re-detection).
     pub redetect: u32,
     /// A searched region takes over when its merged peak is at least this, Q16.16...
     pub redetect_above: rbt_q16,

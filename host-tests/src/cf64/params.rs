@@ -92,8 +92,9 @@ pub struct Params {
     pub search_below: f64,
     /// The merged peak that ends a search.
     pub search_until: f64,
-    /// Ring regions searched per frame while searching, besides the usual one and, when
-    /// above 0, the anchor's (0: no re-detection).
+    /// Ring regions a search visits between two searches of the anchor's region, one
+    /// region a frame besides the usual one, as the core's `search_offset` (0: no
+    /// re-detection).
     pub redetect: usize,
     /// A region searched takes over when its merged peak is at least this...
     pub redetect_above: f64,

@@ -12,6 +12,7 @@ use super::particles::Particles;
 use super::scale::{ScaleFilter, ScaleParams};
 use crate::metrics::BBox;
 use rbtrack::fixed::Q16;
+use rbtrack::tracker::search_offset;
 use rbtrack::tracker::{calibration, Status};
 
 /// Smallest target side, px.
@@ -334,10 +335,17 @@ impl Tracker {
             predicted.0.clamp(0.0, self.frame_size.0 - 1.0),
             predicted.1.clamp(0.0, self.frame_size.1 - 1.0),
         );
-        let mut found = self.detect(frame, predicted);
-        if searching {
-            found = self.redetect(frame, found);
-        }
+        let usual = self.detect(frame, predicted);
+        // A region other than the usual one that takes over only moves the target: nothing
+        // is learnt this frame.
+        let more = match searching {
+            true => self.search_more(frame),
+            false => None,
+        };
+        let (mut found, taken_over) = match more.filter(|d| d.peak > usual.peak) {
+            Some(d) => (d, true),
+            None => (usual, false),
+        };
         self.centre = found.found;
         if let Some(particles) = &mut self.particles {
             let cell = p.cell as f64;
@@ -379,7 +387,8 @@ impl Tracker {
             self.anchor = self.centre;
         }
 
-        let scales = self.scale.as_ref().map(|scale| {
+        // No scale samples on a search frame.
+        let scales = self.scale.as_ref().filter(|_| !searching).map(|scale| {
             let z = scale.sample(frame, self.centre, self.size);
             let r = scale.response(&z);
             let i = (0..r.len())
@@ -404,7 +413,7 @@ impl Tracker {
             self.size = (self.base.0 * *f, self.base.1 * *f);
         }
 
-        let learn = peak >= p.learn_above;
+        let learn = peak >= p.learn_above && !taken_over;
         if !learn {
             // Not sure enough of this frame to learn from it.
         } else if p.fresh_patch {
@@ -443,45 +452,18 @@ impl Tracker {
         self.last
     }
 
-    /// While searching (with `redetect` above 0): the region where the target was last seen
-    /// (the anchor: an occluded target reappears there) and `redetect` more around it, the
-    /// next ones of a ring of 8 each frame, each half a region away; the best of them
-    /// replaces `found` if its peak and colour score clear their thresholds and its peak
-    /// beats `found`'s.
-    fn redetect(&self, frame: &RgbImage, found: Detection) -> Detection {
-        const RING: [(f64, f64); 8] = [
-            (1.0, 0.0),
-            (-1.0, 0.0),
-            (0.0, 1.0),
-            (0.0, -1.0),
-            (1.0, 1.0),
-            (-1.0, -1.0),
-            (1.0, -1.0),
-            (-1.0, 1.0),
-        ];
+    /// While searching: the region [`search_offset`] names for this frame of the search
+    /// (none when `redetect` is 0), if its peak and colour score clear their thresholds.
+    fn search_more(&self, frame: &RgbImage) -> Option<Detection> {
         let p = &self.params;
+        let (ox, oy) = search_offset(self.search_frames - 1, p.redetect)?;
         let region = Geometry::new(p, self.size).region;
-        // The anchor itself first (where a hidden target reappears), then the ring.
-        let offsets = std::iter::once((0.0, 0.0))
-            .filter(|_| p.redetect > 0)
-            .chain(
-                (0..p.redetect).map(|k| RING[(self.search_frames * p.redetect + k) % RING.len()]),
-            );
-        let mut best = found;
-        for (ox, oy) in offsets {
-            let centre = (
-                (self.anchor.0 + ox * region.0 / 2.0).clamp(0.0, self.frame_size.0 - 1.0),
-                (self.anchor.1 + oy * region.1 / 2.0).clamp(0.0, self.frame_size.1 - 1.0),
-            );
-            let candidate = self.detect(frame, centre);
-            if candidate.peak >= p.redetect_above
-                && candidate.colour >= p.redetect_colour
-                && candidate.peak > best.peak
-            {
-                best = candidate;
-            }
-        }
-        best
+        let centre = (
+            (self.anchor.0 + ox as f64 * region.0 / 2.0).clamp(0.0, self.frame_size.0 - 1.0),
+            (self.anchor.1 + oy as f64 * region.1 / 2.0).clamp(0.0, self.frame_size.1 - 1.0),
+        );
+        let d = self.detect(frame, centre);
+        (d.peak >= p.redetect_above && d.colour >= p.redetect_colour).then_some(d)
     }
 
     /// Learns the target on a new patch and new samples where it now is.

@@ -309,11 +309,34 @@ impl CycleCounter for Laps {
     }
 }
 
-/// The block leaves for 4 frames (the tracker is lost) and comes back half a region
-/// right of where it was last seen, beyond the usual search's reach: with re-detection
-/// (the anchor's region and 2 ring regions a frame, 3 laps each, and 3 more for the
-/// region that takes over) the ring's region there finds it on that frame; without, the
-/// tracker is still lost.
+/// A search frame searches one region besides the usual one: the anchor's for the first
+/// [`ANCHOR_FRAMES`], then the anchor's and `redetect` ring regions in turn, the ring's
+/// next ones each round; none with `redetect` 0.
+#[test]
+fn a_search_frame_searches_one_more_region() {
+    assert_eq!(search_offset(0, 0), None);
+    assert_eq!(search_offset(ANCHOR_FRAMES + 1, 0), None);
+    for k in 0..ANCHOR_FRAMES {
+        assert_eq!(search_offset(k, 2), Some((0, 0)), "frame {k}");
+    }
+    let after: Vec<_> = (ANCHOR_FRAMES..ANCHOR_FRAMES + 12)
+        .map(|k| search_offset(k, 2).unwrap())
+        .collect();
+    let (a, r) = ((0, 0), RING);
+    assert_eq!(
+        after,
+        [a, r[0], r[1], a, r[2], r[3], a, r[4], r[5], a, r[6], r[7]]
+    );
+    assert_eq!(search_offset(ANCHOR_FRAMES + 13, 2), Some(r[0]));
+    assert_eq!(search_offset(ANCHOR_FRAMES + 1, 1), Some(r[0]));
+    assert_eq!(search_offset(ANCHOR_FRAMES + 3, 1), Some(r[1]));
+}
+
+/// The block leaves (the tracker is lost) and comes back half a region and 6 px right of
+/// where it was last seen, beyond the usual search's reach, on the search frame that searches the
+/// ring's first region: with re-detection (one region a frame, 3 laps, and none more for
+/// the region that takes over) that region finds it on that frame; without, the tracker is
+/// still lost.
 #[test]
 fn re_detection_finds_the_target_half_a_region_away() {
     let first = frame(20);
@@ -326,18 +349,22 @@ fn re_detection_finds_the_target_half_a_region_away() {
             ..CfConfig::default()
         };
         let mut tracker = Small::new(config, &view, Rect::new(20, 26, 16, 20)).unwrap();
-        for k in 0..4 {
+        // The search begins on the second empty frame; its frame `ANCHOR_FRAMES + 1`
+        // searches the ring's first region.
+        for k in 0..ANCHOR_FRAMES + 2 {
             let (e, cycles) = tracker.step_profiled(&empty, Laps(0));
             assert_eq!(e.status, Status::Lost, "redetect {redetect}, frame {k}");
-            let ring = match (k, redetect) {
+            let more = match (k, redetect) {
                 (0, _) | (_, 0) => 0,
-                _ => 3 * (redetect as u32 + 1),
+                _ => 3,
             };
-            assert_eq!(cycles.redetect, ring, "redetect {redetect}, frame {k}");
+            assert_eq!(cycles.redetect, more, "redetect {redetect}, frame {k}");
         }
-        // The next step's first ring region is half a region right of the first box.
+        // The next step's region is the ring's first, half a region right of the first box;
+        // the block comes back 6 px beyond its centre (the usual search, a few px right of
+        // the first box after its drift on the empty ramp, does not reach it).
         let half = tracker.geometry().region.0.to_f64() / 2.0;
-        let x0 = (20.0 + half).round() as usize;
+        let x0 = (20.0 + half).round() as usize + 6;
         let back = frame_at(x0, 26);
         let back = ImageView::<Gray8>::new(&back, 96, 72, 96).unwrap();
         let (e, cycles) = tracker.step_profiled(&back, Laps(0));
@@ -349,10 +376,7 @@ fn re_detection_finds_the_target_half_a_region_away() {
                 "found without re-detection: centre {cx}, block at {x0}"
             );
         } else {
-            assert_eq!(
-                cycles.redetect, 12,
-                "the anchor's, 2 ring regions, the one taken"
-            );
+            assert_eq!(cycles.redetect, 3, "the ring's region alone");
             assert_ne!(e.status, Status::Lost);
             assert!(
                 (cx - (x0 as f64 + 7.5)).abs() < 1.5,
