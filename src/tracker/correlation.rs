@@ -562,7 +562,7 @@ impl<Bn: Binning, const B: usize, const G: usize, const S: usize> CfTracker<Bn, 
         };
         let usual = self.detect(frame, search, &mut watch, &mut cycles);
         // A region other than the usual one that takes over only moves the target: the
-        // models hold the usual region's spectra and colours, and learn nothing this frame.
+        // filter holds the usual region's spectra, so nothing is learnt this frame.
         let (found, taken_over) = match more.filter(|d| d.peak > usual.peak) {
             Some(d) => (d, true),
             None => (usual, false),
