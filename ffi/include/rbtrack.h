@@ -85,15 +85,15 @@
 #endif
 
 #if defined(RBT_POINTER_32)
-// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
+// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 5
 // scales, 512 RGB bins (8x8x8) (32-bit targets).
-#define RBT_TRACKER_CF_SIZE 91328
+#define RBT_TRACKER_CF_SIZE 84368
 #endif
 
 #if defined(RBT_POINTER_64)
-// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 8
+// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 5
 // scales, 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_CF_SIZE 91416
+#define RBT_TRACKER_CF_SIZE 84456
 #endif
 
 // Alignment of every tracker's memory, bytes.
@@ -628,7 +628,7 @@ rbt_error rbt_tracker_place_yuv_100(void *memory, size_t size, rbt_tracker **tra
 // on; `tracker` is null or points to a writable pointer.
 rbt_error rbt_tracker_place_luma_100(void *memory, size_t size, rbt_tracker **tracker);
 
-// Places the unstarted correlation-filter tracker at its defaults (16 x 16 cells, 8
+// Places the unstarted correlation-filter tracker at its defaults (16 x 16 cells, 5
 // scales, 512 RGB bins (8x8x8): the core's `RgbCfTracker`) in `memory`
 // (`RBT_TRACKER_CF_SIZE` bytes, aligned to `RBT_TRACKER_ALIGN`) and writes its handle to
 // `tracker`; `rbt_cf_start` starts it.

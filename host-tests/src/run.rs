@@ -287,6 +287,7 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
             ($bn:ty, $b:literal) => {
                 match (cf.grid, cf.scales) {
                     (16, 8) => CfRunner::<$bn, $b, 16, 8>::start(cf.config, frame, init),
+                    (16, 5) => CfRunner::<$bn, $b, 16, 5>::start(cf.config, frame, init),
                     (16, 4) => CfRunner::<$bn, $b, 16, 4>::start(cf.config, frame, init),
                     (8, 8) => CfRunner::<$bn, $b, 8, 8>::start(cf.config, frame, init),
                     (8, 4) => CfRunner::<$bn, $b, 8, 4>::start(cf.config, frame, init),
@@ -333,10 +334,10 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
 /// Cells a side of the host's correlation-filter tracker by default.
 pub const CF_GRID: usize = 16;
 /// Its scales by default.
-pub const CF_SCALES: usize = 8;
+pub const CF_SCALES: usize = 5;
 /// The (grid, scales) the host runs the core correlation-filter tracker at: the default,
 /// then smaller ones (`examples/budget.rs` prices them).
-pub const CF_SHAPES: [(usize, usize); 4] = [(CF_GRID, CF_SCALES), (16, 4), (8, 8), (8, 4)];
+pub const CF_SHAPES: [(usize, usize); 5] = [(CF_GRID, CF_SCALES), (16, 8), (16, 4), (8, 8), (8, 4)];
 
 /// The core's correlation-filter tracker behind [`Run`], on the heap (it is large).
 struct CfRunner<Bn: Binning, const B: usize, const G: usize, const S: usize> {

@@ -1,5 +1,6 @@
 //! The integer scale filter (`rbtrack::cf::scale`) against the f64 reference
-//! (`cf64::scale`), configured as the port: 8 scales of 1.08, sigma 0.25, lambda 1e-3,
+//! (`cf64::scale`), configured as the port: 5 scales of 1.15 (the defaults) and 8 of 1.08,
+//! sigma 0.25, lambda 1e-3,
 //! 512 px^2 of 4 px cells, the 9 unsigned fHOG channels of the luma, no window, the peak
 //! interpolated. The scene is the reference's own: a textured disc grown by 1.06, 1.1 and
 //! 0.92.
@@ -13,15 +14,13 @@ use rbtrack_host::cf64::fhog::{features, Gradients, Hog};
 use rbtrack_host::cf64::image::{Resample, RgbImage};
 use rbtrack_host::cf64::scale::{self as reference, ScaleParams};
 
-const S: usize = 8;
-const STEP: f64 = 1.08;
 const CENTRE: (f64, f64) = (100.0, 100.0);
 const SIZE: (f64, f64) = (60.0, 60.0);
 
-fn params() -> ScaleParams {
+fn params<const S: usize>(step: f64) -> ScaleParams {
     ScaleParams {
         scales: S,
-        step: STEP,
+        step,
         sigma: 0.25,
         area: 512.0,
         cell: 4,
@@ -34,9 +33,9 @@ fn params() -> ScaleParams {
     }
 }
 
-fn settings() -> ScaleSettings {
+fn settings(step: f64) -> ScaleSettings {
     ScaleSettings {
-        step: Q16::from_f64(STEP),
+        step: Q16::from_f64(step),
         sigma: Q16::from_f64(0.25),
         lambda: (1e-3 * 2f64.powi(32)).round() as u32,
         area: 512,
@@ -80,7 +79,7 @@ fn img(rgb: &[u8]) -> RgbImage<'_> {
 
 /// The reference's features of the `S` samples, quantised to Q15: `rows[d][s]`, feature
 /// `d` = cell `d / 9` (row-major), unsigned channel `d % 9`.
-fn reference_rows(filter: &reference::ScaleFilter, rgb: &[u8]) -> Vec<[i16; S]> {
+fn reference_rows<const S: usize>(filter: &reference::ScaleFilter, rgb: &[u8]) -> Vec<[i16; S]> {
     // The reference's model of a 60 x 60 box: 20 x 20 px, 5 x 5 cells.
     let (model, cells) = ((20, 20), 25);
     let mut rows = vec![[0i16; S]; cells * 9];
@@ -98,7 +97,7 @@ fn reference_rows(filter: &reference::ScaleFilter, rgb: &[u8]) -> Vec<[i16; S]> 
 }
 
 /// `rows` as the reference's spectra (feature-major, each row transformed).
-fn spectra(rows: &[[i16; S]]) -> Vec<C64> {
+fn spectra<const S: usize>(rows: &[[i16; S]]) -> Vec<C64> {
     let fft = Fft1::new(S);
     let mut out = Vec::with_capacity(rows.len() * S);
     for row in rows {
@@ -114,7 +113,7 @@ fn spectra(rows: &[[i16; S]]) -> Vec<C64> {
 
 /// The reference tracker's reading of a response: the best sample and its factor, the
 /// peak interpolated by the parabola through it and its neighbours.
-fn read(filter: &reference::ScaleFilter, r: &[f64]) -> (usize, f64) {
+fn read(filter: &reference::ScaleFilter, r: &[f64], step: f64) -> (usize, f64) {
     let i = (0..r.len())
         .max_by(|&a, &b| r[a].total_cmp(&r[b]))
         .unwrap_or(0);
@@ -126,20 +125,28 @@ fn read(filter: &reference::ScaleFilter, r: &[f64]) -> (usize, f64) {
             between = (0.5 * (l - rt) / curve).clamp(-0.5, 0.5);
         }
     }
-    (i, filter.factors()[i] / STEP.powf(between))
+    (i, filter.factors()[i] / step.powf(between))
 }
 
-/// The same features into both: the responses agree within 1e-4 (of a peak near 1; 2.9e-5
-/// measured) and the factors within 5e-5 (7.7e-6 measured), trained once and over
+/// The same features into both: the responses agree within 1e-4 (of a peak near 1; 3.0e-5
+/// measured) and the factors within 5e-5 (8.8e-6 measured), trained once and over
 /// learning steps.
 #[test]
 fn on_the_same_features_both_answer_alike() {
+    // 5 coarse scales of 1.15 read 1.1 as 1.037, 8 of 1.08 as 1.065.
+    same_features::<5>(1.15, 0.07);
+    same_features::<8>(1.08, 0.05);
+}
+
+/// [`on_the_same_features_both_answer_alike`] at `S` scales of `step`, each factor found
+/// within `within` of the growth.
+fn same_features<const S: usize>(scale_step: f64, within: f64) {
     let base = frame(30.0);
-    let mut want = reference::ScaleFilter::new(params(), &img(&base), CENTRE, SIZE);
-    let first = reference_rows(&want, &base);
+    let mut want = reference::ScaleFilter::new(params::<S>(scale_step), &img(&base), CENTRE, SIZE);
+    let first = reference_rows::<S>(&want, &base);
     // Trained on the quantised features at rate 1: all the reference learnt is replaced.
     want.learn(&spectra(&first), want.middle(), 1.0);
-    let mut got = ScaleFilter::<S>::from_features(settings(), q16(SIZE), &first);
+    let mut got = ScaleFilter::<S>::from_features(settings(scale_step), q16(SIZE), &first);
     assert_eq!(got.features(), first.len());
 
     let (mut worst_r, mut worst_f) = (0.0f64, 0.0f64);
@@ -149,7 +156,7 @@ fn on_the_same_features_both_answer_alike() {
         let rows = reference_rows(&want, &rgb);
         let z = spectra(&rows);
         let r = want.response(&z);
-        let (i, factor) = read(&want, &r);
+        let (i, factor) = read(&want, &r, scale_step);
         let found = got.respond_features(&rows).to_f64();
         let diff_r = r
             .iter()
@@ -159,8 +166,8 @@ fn on_the_same_features_both_answer_alike() {
         println!("step {step}, grown {g}: factor {factor:.5} / {found:.5}, response {diff_r:.2e}");
         worst_r = worst_r.max(diff_r);
         worst_f = worst_f.max((found - factor).abs());
-        // The configuration's own reading (both): 8 coarse scales, 1.1 read as 1.065.
-        assert!((found / g - 1.0).abs() < 0.05, "grown {g}: found {found}");
+        // The configuration's own reading (both).
+        assert!((found / g - 1.0).abs() < within, "grown {g}: found {found}");
         // Three steps learnt only once trained, then every frame at 0.2.
         if step >= 3 {
             want.learn(&z, i, 0.2);
@@ -174,7 +181,7 @@ fn on_the_same_features_both_answer_alike() {
 
 /// `extract`'s features of the `S` samples of factors `factors`, as the integer filter takes
 /// them (its Q16.16 arithmetic; 5 x 5 cells over the whole sample, as the reference's).
-fn integer_rows(factors: &[Q16], rgb: &[u8]) -> Vec<[i16; S]> {
+fn integer_rows<const S: usize>(factors: &[Q16], rgb: &[u8]) -> Vec<[i16; S]> {
     let mut rows = vec![[0i16; S]; 25 * 9];
     let mut cells = [[0i16; CHANNELS]; 25];
     for (s, &f) in factors.iter().enumerate() {
@@ -200,17 +207,23 @@ fn integer_rows(factors: &[Q16], rgb: &[u8]) -> Vec<[i16; S]> {
 }
 
 /// End to end, each filter sampling the frame with its own features: the factors agree
-/// within 5e-5 (8.5e-6 measured), as on the same features: the reference reads the frame's
+/// within 5e-5 (1.2e-5 measured), as on the same features: the reference reads the frame's
 /// 8-bit luma and keeps its patch to 1/256 of a grey level, as `extract` does, and resamples
 /// the whole scaled box to whole cells. The reference's maths on `extract`'s features agree
 /// with the integer filter within 5e-5.
 #[test]
 fn on_the_frame_both_find_the_same_scale() {
+    same_frame::<5>(1.15);
+    same_frame::<8>(1.08);
+}
+
+/// [`on_the_frame_both_find_the_same_scale`] at `S` scales of `step`.
+fn same_frame<const S: usize>(scale_step: f64) {
     let base = frame(30.0);
-    let mut want = reference::ScaleFilter::new(params(), &img(&base), CENTRE, SIZE);
+    let mut want = reference::ScaleFilter::new(params::<S>(scale_step), &img(&base), CENTRE, SIZE);
     let mut extractor = Box::new(Extractor::default());
     let mut got = ScaleFilter::<S>::new(
-        settings(),
+        settings(scale_step),
         &view(&base),
         q16(CENTRE),
         q16(SIZE),
@@ -219,7 +232,11 @@ fn on_the_frame_both_find_the_same_scale() {
     // The reference's maths on the integer features.
     let mut same = want.clone();
     let factors = *got.factors();
-    same.learn(&spectra(&integer_rows(&factors, &base)), same.middle(), 1.0);
+    same.learn(
+        &spectra(&integer_rows::<S>(&factors, &base)),
+        same.middle(),
+        1.0,
+    );
     let (mut worst, mut worst_maths) = (0.0f64, 0.0f64);
     for (step, g) in [1.0, 1.06, 1.1, 0.92, 1.03, 1.0, 0.96, 1.08]
         .into_iter()
@@ -227,9 +244,9 @@ fn on_the_frame_both_find_the_same_scale() {
     {
         let rgb = frame(30.0 * g);
         let z = want.sample(&img(&rgb), CENTRE, SIZE);
-        let (i, factor) = read(&want, &want.response(&z));
-        let zi = spectra(&integer_rows(&factors, &rgb));
-        let (j, maths) = read(&same, &same.response(&zi));
+        let (i, factor) = read(&want, &want.response(&z), scale_step);
+        let zi = spectra(&integer_rows::<S>(&factors, &rgb));
+        let (j, maths) = read(&same, &same.response(&zi), scale_step);
         let found = got
             .respond(&view(&rgb), q16(CENTRE), q16(SIZE), &mut extractor)
             .to_f64();

@@ -1,11 +1,13 @@
 //! The integer correlation-filter tracker and its f64 reference keep a target's size: a
 //! textured box, still or moving slowly over a textured background, 8 to 200 px a side,
 //! aspect 1:4 to 4:1, in frames from 160 x 120 to 1280 x 720. Over 300 frames each tracker
-//! keeps the true size within 5 % every frame, and the two agree within 2 % on average
-//! (the mean of `|ln(cf / reference)|` over the frames and the two sides) and within 5 %
-//! every frame. Two runs of the reference whose first boxes are 0.01 px apart agree as
-//! closely and no closer: each frame's sizes within 2.3 % at worst, of 118 runs 1 beyond 2 %
-//! (`rbtrack port` reads the same floor on real video).
+//! keeps the true size within 10 % every frame at the defaults' 5 scales of 1.15 (8.9 % at
+//! worst measured: the peak read between samples 15 % apart), within 5 % at 8 scales of
+//! 1.08, and the two agree within 2 % on average (the mean of `|ln(cf / reference)|` over
+//! the frames and the two sides) and within 5 % every frame. Two runs of the reference
+//! whose first boxes are 0.01 px apart agree as closely and no closer: each frame's sizes
+//! within 2.3 % at worst, of 118 runs 1 beyond 2 % (`rbtrack port` reads the same floor on
+//! real video).
 
 use rbtrack::tracker::Variant;
 use rbtrack_host::cf64::Params;
@@ -16,8 +18,9 @@ use rbtrack_host::run::{start, CoreCf, Options};
 /// Frames a run.
 const FRAMES: usize = 300;
 
-/// Each tracker's size within this share of the truth, every frame.
-const TRUE_SIZE: f64 = 0.05;
+/// The scale filters run: scales, step and each tracker's size within this share of the
+/// truth every frame.
+const SCALES: [(usize, f64, f64); 2] = [(5, 1.15, 0.10), (8, 1.08, 0.05)];
 
 /// The two trackers' sizes within this share of each other on average over the run...
 const AGREE: f64 = 0.02;
@@ -108,9 +111,13 @@ struct Sizes {
     apart_mean: f64,
 }
 
-/// The sizes of the run of `case`.
-fn run(case: Case) -> Sizes {
-    let cf = CoreCf::default();
+/// The sizes of the run of `case` at `scales` scales of `step`.
+fn run(case: Case, scales: usize, step: f64) -> Sizes {
+    let mut cf = CoreCf {
+        scales,
+        ..CoreCf::default()
+    };
+    cf.config.scale.step = rbtrack::fixed::Q16::from_f64(step);
     let base = Options::new(Variant::Rbpf);
     let core = Options {
         cf: Some(cf),
@@ -195,13 +202,25 @@ fn cases() -> Vec<Case> {
 
 #[test]
 fn both_trackers_keep_the_size_and_agree() {
-    let cases = cases();
+    let cases: Vec<(Case, usize, f64, f64)> = SCALES
+        .into_iter()
+        .flat_map(|(scales, step, within)| {
+            cases().into_iter().map(move |c| (c, scales, step, within))
+        })
+        .collect();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let results: Vec<(Case, Sizes)> = std::thread::scope(|scope| {
+    let results: Vec<((Case, usize, f64, f64), Sizes)> = std::thread::scope(|scope| {
         let chunks: Vec<_> = cases
             .chunks(cases.len().div_ceil(threads))
             .map(|chunk| {
-                scope.spawn(move || chunk.iter().map(|&c| (c, run(c))).collect::<Vec<_>>())
+                scope.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|&(c, scales, step, within)| {
+                            ((c, scales, step, within), run(c, scales, step))
+                        })
+                        .collect::<Vec<_>>()
+                })
             })
             .collect();
         chunks
@@ -210,14 +229,14 @@ fn both_trackers_keep_the_size_and_agree() {
             .collect()
     });
     let mut failed = Vec::new();
-    for (c, s) in &results {
+    for ((c, scales, step, within), s) in &results {
         let line = format!(
-            "{}x{} frame, {}x{} target, {:.2} px a frame: cf {:.3}, reference {:.3} off the \
-             true size at worst, {:.3} apart at worst, {:.4} on average",
+            "{scales} scales of {step}: {}x{} frame, {}x{} target, {:.2} px a frame: cf {:.3}, \
+             reference {:.3} off the true size at worst, {:.3} apart at worst, {:.4} on average",
             c.width, c.height, c.w, c.h, c.speed, s.cf, s.reference, s.apart, s.apart_mean
         );
         println!("{line}");
-        let true_size = s.cf <= TRUE_SIZE && s.reference <= TRUE_SIZE;
+        let true_size = s.cf <= *within && s.reference <= *within;
         if !true_size || s.apart > AGREE_EVERY || s.apart_mean > AGREE {
             failed.push(line);
         }

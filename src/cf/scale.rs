@@ -25,34 +25,35 @@
 //!
 //! # Fixed-point scales
 //! - Features: Q15 from [`Extractor::extract`] (`|x| <= 2^15`), shifted to Q21.
-//! - Pair spectra `Z_p`: the transform of Q21 features, Q21, `|Z| <= sqrt 2 S 2^21 <=
-//!   2^27.5`: the FFT never shifts a block that small (a block exponent would be undone,
-//!   saturating).
+//! - Pair spectra `Z_p`: the transform of Q21 features over the scales, Q21, `|Z| <=
+//!   sqrt 2 S 2^21 <= 2^25.5`: the direct transform ([`forward_direct`], any `S` from 2
+//!   to 16, within 1 LSB here), rounded, with no block exponent.
 //! - Label: Q16 from [`exp_neg`] (peak 65,535), its spectrum `|Y| <= S 2^16`, Q16.
 //! - Pair numerators `P_p`: the Q37 products `Y_k Z_p,S-k` rounded to Q17 (`>> 20`), `i32`,
-//!   `|P| <= sqrt 2 S^2 2^17 <= 2^29.5`: learning blends them without a clamp (a blend
+//!   `|P| <= sqrt 2 S^2 2^17 <= 2^25.5`: learning blends them without a clamp (a blend
 //!   lies between its old and new values).
-//! - Denominator `B`: Q42, `i64`, `<= D S^2 2^42 < 2^62.2` (its sums of `|Z|^2` need no
+//! - Denominator `B`: Q42, `i64`, `<= D S^2 2^42 < 2^58.2` (its sums of `|Z|^2` need no
 //!   saturation); `lambda` (Q0.32) raised to Q42.
-//! - `U_k + conj(U_S-k)`: each product Q38 floored to Q30 (`>> 8`), `<= 2^49`, the sum
-//!   `<= 2^58.2`, `i64` (accumulated without saturation); twice the response's
+//! - `U_k + conj(U_S-k)`: each product Q38 floored to Q30 (`>> 8`), `<= 2^43`, the sum
+//!   `<= 2^52.2`, `i64` (accumulated without saturation); twice the response's
 //!   spectrum, so the quotient below shifts one bit less.
-//! - Quotient by `B + lambda`: Q16 saturated to `i32` (in `i128`), inverse transform, the
-//!   block exponent applied: the response, Q16 (about 1 at the peak for the trained
-//!   samples). The label's peak of 65,535 rather than 65,536 costs 1.5e-5 of it.
+//! - Quotient by `B + lambda`: Q16 saturated to `i32` (in `i128`), the real parts of its
+//!   direct inverse transform ([`inverse_direct_real`], `1/S` included): the response,
+//!   Q16 (about 1 at the peak for the trained samples). The label's peak of 65,535 rather
+//!   than 65,536 costs 1.5e-5 of it.
 //!
 //! The size factor `step^x` of a fractional `x` is the integer power times the binomial
 //! series of `(1 + u)^f`, `u = step - 1 <= 1/2`, `0 <= f < 1`, 12 terms, in Q30: within
 //! 2 LSB of Q16.16 for `|x| <= 8` at the steps allowed (1.2 measured).
 //!
 //! Against the host's f64 filter on the same (Q15) features of its test scene, the
-//! responses agree within 2.9e-5 and the size factors within 7.7e-6; each on its own
-//! features of the frame, the factors within 4e-3, the features' difference
+//! responses agree within 3.0e-5 and the size factors within 8.8e-6 (5 scales of 1.15 and
+//! 8 of 1.08); each on its own features of the frame, the factors within 1.2e-5
 //! (`host-tests/tests/cf_scale.rs`). Stack: 640 bytes of cells for one sample, a few
-//! hundred more; the filter itself is 18,616 bytes for `S = 8` on a 32-bit target.
+//! hundred more; the filter itself is 11,656 bytes for `S = 5` on a 32-bit target.
 
 use super::features::{Cell, Extractor, Sampling, CHANNELS};
-use crate::fft::{forward, inverse, mirrored, Complex};
+use crate::fft::{forward_direct, inverse_direct_real, mirrored, Complex, MAX_DIRECT_POINTS};
 use crate::fixed::{isqrt_u64, Q16};
 use crate::image::{ImageView, PixelFormat};
 use crate::likelihood::exp_neg;
@@ -180,11 +181,12 @@ impl Grid {
     }
 }
 
-/// The scale filter, `S` scales (a power of two, `2..=64`).
+/// The scale filter, `S` scales (`2..=16`).
 ///
-/// 18,616 bytes for `S = 8` on a 32-bit target (18,648 on a 64-bit host): the numerator
-/// and the last samples' spectra, packed in pairs, `MAX_FEATURES / 2 x S` complex each
-/// (9,216 bytes), and `S` values of the rest.
+/// 11,656 bytes for `S = 5` on a 32-bit target (11,688 on a 64-bit host; 18,616 for
+/// `S = 8`): the numerator and the last samples' spectra, packed in pairs,
+/// `MAX_FEATURES / 2 x S` complex each (5,760 bytes at `S = 5`), and `S` values of the
+/// rest.
 #[derive(Clone, Debug)]
 pub struct ScaleFilter<const S: usize> {
     settings: ScaleSettings,
@@ -315,12 +317,7 @@ impl<const S: usize> ScaleFilter<S> {
     /// Takes `settings` and the model of a first box of `size` px, with nothing learnt,
     /// in place.
     fn reset(&mut self, settings: ScaleSettings, size: (Q16, Q16)) {
-        const {
-            assert!(
-                S.is_power_of_two() && S >= 2 && S <= 64,
-                "scale counts are powers of two from 2 to 64"
-            )
-        };
+        const { assert!(S >= 2 && S <= MAX_DIRECT_POINTS, "scale counts are 2 to 16") };
         let settings = settings.limited();
         let grid = Grid::new(&settings, size);
         // 1 / (2 S sigma^2) in Q16.16: 2^47 / (S b^2), b = sigma's bits (2^8..=2^22).
@@ -388,8 +385,7 @@ impl<const S: usize> ScaleFilter<S> {
     /// Transforms the samples' pair rows over the scales, Q21.
     fn transform(&mut self) {
         for row in self.samples.iter_mut().take(self.pairs) {
-            let e = forward(row);
-            rescale(row, e);
+            forward_direct(row);
         }
     }
 
@@ -401,7 +397,7 @@ impl<const S: usize> ScaleFilter<S> {
         let mut u = [(0i64, 0i64); S];
         for (z, a) in self.samples.iter().zip(&self.num).take(self.pairs) {
             for (k, t) in u.iter_mut().enumerate() {
-                let (Some(w), Some(a)) = (z.get(S.wrapping_sub(k) & (S - 1)), a.get(k)) else {
+                let (Some(w), Some(a)) = (z.get(S.wrapping_sub(k) % S), a.get(k)) else {
                     continue;
                 };
                 let p = |u: i32, v: i32| (i64::from(u) * i64::from(v)) >> SUM_SHIFT;
@@ -424,11 +420,7 @@ impl<const S: usize> ScaleFilter<S> {
             };
             *q = Complex::new(part(t.0), part(t.1));
         }
-        let e = inverse(&mut q);
-        rescale(&mut q, e);
-        for (r, q) in self.response.iter_mut().zip(&q) {
-            *r = q.re;
-        }
+        self.response = inverse_direct_real(&q);
         // The last of equal peaks, as the host's `max_by`.
         let mut best = 0;
         for (s, &r) in self.response.iter().enumerate() {
@@ -459,7 +451,7 @@ impl<const S: usize> ScaleFilter<S> {
         let eta = core::hint::black_box(eta);
         for (z, a) in self.samples.iter().zip(&mut self.num).take(self.pairs) {
             for (k, (a, (y, e))) in a.iter_mut().zip(y.iter().zip(&mut energy)).enumerate() {
-                let (Some(w), Some(v)) = (z.get(S.wrapping_sub(k) & (S - 1)), z.get(k)) else {
+                let (Some(w), Some(v)) = (z.get(S.wrapping_sub(k) % S), z.get(k)) else {
                     continue;
                 };
                 let (wr, wi) = (i64::from(w.re), i64::from(w.im));
@@ -492,9 +484,7 @@ impl<const S: usize> ScaleFilter<S> {
             let d = s.abs_diff(at).min(64) as i32;
             *v = Complex::new(exp_neg(self.cost.mul_int(d * d)) as i32, 0);
         }
-        let e = forward(&mut y);
-        rescale(&mut y, e);
-        y
+        *forward_direct(&mut y)
     }
 }
 
@@ -508,27 +498,6 @@ fn store<const S: usize>(rows: &mut [[Complex; S]], values: impl Iterator<Item =
         if let Some(x) = row.get_mut(s) {
             *x = Complex::new(re, im);
         }
-    }
-}
-
-/// Undoes a block exponent `e`: `data` times `2^e`, rounded, saturating.
-fn rescale(data: &mut [Complex], e: i32) {
-    if e == 0 {
-        return;
-    }
-    let scale = |v: i32| {
-        let v = i64::from(v);
-        let v = match e > 0 {
-            true => v << e.min(32),
-            false => {
-                let k = (-e).min(62);
-                (v + (1 << (k - 1))) >> k
-            }
-        };
-        Q16::saturate(v).to_bits()
-    };
-    for v in data.iter_mut() {
-        *v = Complex::new(scale(v.re), scale(v.im));
     }
 }
 
@@ -691,8 +660,9 @@ mod tests {
 
     #[test]
     fn its_size_is_stated() {
+        assert_eq!(core::mem::size_of::<ScaleFilter<5>>(), 11_688);
         assert_eq!(core::mem::size_of::<ScaleFilter<8>>(), 18_648);
-        assert!(core::mem::size_of::<ScaleFilter<8>>() <= 24 * 1024);
+        assert!(core::mem::size_of::<ScaleFilter<16>>() <= 40 * 1024);
     }
 
     /// `(re, im)` pairs.

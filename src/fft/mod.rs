@@ -1,8 +1,9 @@
 //! Radix-2 and radix-4 fast Fourier transforms of complex integer samples, in place over
 //! the caller's arrays: 1-D of `N` points and 2-D of `R x C` grids (row-major; the rows'
 //! transforms, then the columns'), for the correlation filter's feature grids. `N`, `R` and
-//! `C` are powers of two from 2 to [`MAX_POINTS`], checked at compile time. No allocation,
-//! no floating point, no panic path.
+//! `C` are powers of two from 2 to [`MAX_POINTS`], checked at compile time; and the direct
+//! transform of a short row of any length ([`forward_direct`], [`inverse_direct_real`]).
+//! No allocation, no floating point, no panic path.
 //!
 //! The forward transform is `X_k = sum_j x_j e^(-2 pi i j k / N)`, the inverse
 //! `x_j = 1/N sum_k X_k e^(2 pi i j k / N)` (rustfft's forward, and its inverse divided by
@@ -143,8 +144,11 @@ impl Complex {
     }
 }
 
+mod direct;
 mod radix;
 mod rows;
+
+pub use direct::{forward_direct, inverse_direct_real, MAX_DIRECT_POINTS};
 
 use radix::{log2_points, magnitude_bits, stages};
 use rows::{bit_reverse, reverse, transform};

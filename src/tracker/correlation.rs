@@ -42,7 +42,7 @@
 //! lowers the status while the tracker stays where it is; once `Lost`, the status stays
 //! so while the search lasts, until the confidence reaches `uncertain_below`.
 //! A frame of a search is then at most 2 searches and the filter's and colour model's
-//! learning (1.93 M instructions on a lost frame at the defaults, against 2.11 M on the
+//! learning (1.94 M instructions on a lost frame at the defaults, against 1.87 M on the
 //! mean tracked frame: `examples/budget.rs`). By default the ring has 2 regions between
 //! the anchor's and the search does not coast (docs/accuracy.md measures both).
 //!
@@ -192,7 +192,7 @@ impl CfConfig {
             inner_padding: q(0.2),
             merge: q(0.3),
             scale: ScaleSettings {
-                step: q(1.08),
+                step: q(1.15),
                 sigma: q(0.25),
                 lambda: 4_294_967,
                 area: 512,

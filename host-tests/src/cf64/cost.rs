@@ -33,11 +33,11 @@ pub const STAGES: [&str; 5] = ["features", "filter", "colour", "scale", "learn"]
 /// least squares on the relative error over the rows of `examples/budget.rs` in QEMU
 /// (`rbtrack cost BUDGET_OUTPUT --fit`).
 pub const PER_OPERATION: [&[f64]; 5] = [
-    &[111.2, 77.8, 17.3, 8.9, 20_968.2],
+    &[112.1, 77.2, 16.8, 9.0, 21_844.7],
     &[27.0, 41.4],
-    &[102.6, 9_897.0],
-    &[237.3, 12.5, 21.0, 8_905.8],
-    &[48.2, 66.5, 29_478.4],
+    &[105.0, 7_936.4],
+    &[256.1, 15.3, 25.8, 8_537.1],
+    &[50.6, 67.7, 28_308.1],
 ];
 
 /// The target the cost depends on: its first box, px (width, height), which fixes the

@@ -1,7 +1,7 @@
 //! The correlation-filter tracker's unit tests.
 
 use super::*;
-use crate::image::{Gray8, Luma64, Rgb8x8x8};
+use crate::image::{Gray8, Luma64};
 use std::vec;
 use std::vec::Vec;
 
@@ -435,7 +435,7 @@ fn re_detection_finds_the_target_where_it_was_last_seen() {
 
 #[test]
 fn the_default_tracker_fits_in_128_kib() {
-    let size = core::mem::size_of::<CfTracker<Rgb8x8x8, 512, 16, 8>>();
-    std::println!("CfTracker<Rgb8x8x8, 512, 16, 8>: {size} B");
+    let size = core::mem::size_of::<crate::tracker::RgbCfTracker>();
+    std::println!("RgbCfTracker: {size} B");
     assert!(size <= 128 * 1024, "{size} B");
 }
