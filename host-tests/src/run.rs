@@ -336,7 +336,7 @@ pub const CF_GRID: usize = 16;
 /// Its scales by default.
 pub const CF_SCALES: usize = 5;
 /// The (grid, scales) the host runs the core correlation-filter tracker at: the default,
-/// then smaller ones (`examples/budget.rs` prices them).
+/// then the others `examples/budget.rs` prices.
 pub const CF_SHAPES: [(usize, usize); 5] = [(CF_GRID, CF_SCALES), (16, 8), (16, 4), (8, 8), (8, 4)];
 
 /// The core's correlation-filter tracker behind [`Run`], on the heap (it is large).

@@ -34,7 +34,7 @@
 //! A stage's outputs are at most `5/2` (radix 2) or `21/4` (radix 4) times its inputs'
 //! largest magnitude, plus the roundings (`grown`): from the input's magnitude, scanned
 //! once, that bound proves for the first stages of a block well inside the rails (the
-//! correlation filter's Q16 features, its scale filter's Q21 ones) that they cannot
+//! correlation filter's Q16 features) that they cannot
 //! shift. Those stages skip the scan of their outputs; a stage whose successor the bound
 //! cannot clear scans, so the next shift is always read from the values. The shifts, and
 //! so the outputs, are those of a scan at every stage, bit for bit.
@@ -56,8 +56,8 @@
 //! Instructions in QEMU (Cortex-M4F; `examples/budget.rs` for 32 x 32): one 2-D forward
 //! transform of 16 x 16 Q16 samples (the correlation filter's) 20,640, 20.2 a radix-2
 //! butterfly (1,024 of them); of full-scale samples, shifting at every stage, 40,600; of
-//! 32 x 32 full-scale samples 161,800; one 8-point transform of Q21 samples (the scale
-//! filter's) 305, 25 a butterfly. The butterflies run along runs of values in loops of
+//! 32 x 32 full-scale samples 161,720 (the scale filter's rows take the direct
+//! transform instead: 599 a 5-point row of Q21 samples). The butterflies run along runs of values in loops of
 //! two runs each: a radix-2 butterfly loads, stores and adds a pair of values, a radix-4
 //! one makes two such passes (a loop over four runs takes more registers than the core
 //! has, and the compiler then spills), with three multiplies where four radix-2

@@ -162,7 +162,7 @@ pub type YuvTracker<const N: usize> = Tracker<Yuv8x8x4, N, 256>;
 /// A tracker of `N` particles on 64-level grey histograms.
 pub type LumaTracker<const N: usize> = Tracker<Luma64, N, 64>;
 /// The correlation-filter tracker at its defaults: 16 x 16 cells, 5 scales, 8x8x8 RGB
-/// colour histograms (70,608 bytes on a 32-bit target).
+/// colour histograms (84,360 bytes on a 32-bit target).
 pub type RgbCfTracker = CfTracker<Rgb8x8x8, 512, 16, 5>;
 
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
