@@ -11,8 +11,8 @@
 //!   camera motion applied to the tracker (`Tracker::camera_moved`, N = 100, shift and zoom);
 //! - one 2-D forward FFT of a 32 x 32 grid of full-scale Q31 samples (`rbtrack::fft`, the
 //!   correlation filter's transform), one of a 16 x 16 grid of Q16 samples (the
-//!   correlation filter's at its defaults, shift-free), and the direct transform of 5 Q21
-//!   samples (the scale filter's, `rbtrack::fft::forward_direct`, the mean of 204);
+//!   correlation filter's at its defaults, shift-free), and the direct transform of 4 Q21
+//!   samples (the scale filter's, `rbtrack::fft::forward_direct`, the mean of 256);
 //! - the correlation-filter tracker (`rbtrack::tracker::CfTracker`) stage by stage, mean and
 //!   largest, the largest step while lost (with its re-detection: the ring's searches) and
 //!   its `size_of`: against its grid (`G`, 8 or 16 cells a side), cell side,
@@ -78,10 +78,11 @@ mod budget {
     /// Correlation-filter configurations: cells a side (`G`), scales (`S`), cell side (px),
     /// the scale model's largest area (px^2), ring regions searched while lost. The first is
     /// the default; `8 4 4 128 0` the budget configuration (docs/accuracy.md).
-    const CF_CONFIGS: [(usize, usize, usize, u32, usize); 11] = [
+    const CF_CONFIGS: [(usize, usize, usize, u32, usize); 12] = [
+        (16, 4, 4, 512, 2),
+        (16, 4, 4, 512, 0),
+        (16, 4, 2, 512, 2),
         (16, 5, 4, 512, 2),
-        (16, 5, 4, 512, 0),
-        (16, 5, 2, 512, 2),
         (16, 8, 4, 512, 2),
         (16, 4, 4, 256, 2),
         (8, 8, 8, 512, 2),
@@ -236,10 +237,10 @@ mod budget {
         }
         match (g, s) {
             (16, 8) => in_other!(Cf16x8, 16, 8),
-            (16, 4) => in_other!(Cf16x4, 16, 4),
+            (16, 5) => in_other!(Cf16x5, 16, 5),
             (8, 8) => in_other!(Cf8x8, 8, 8),
             (8, 4) => in_other!(Cf8x4, 8, 4),
-            _ => in_other!(Cf16x5, 16, 5),
+            _ => in_other!(Cf16x4, 16, 4),
         }
     }
 
@@ -443,19 +444,19 @@ mod budget {
             counter.now().wrapping_sub(start),
             exponent
         );
-        // The scale filter's 5-point rows: 204 of them in the 32 x 32 grid's memory.
+        // The scale filter's 4-point rows: 256 of them in the 32 x 32 grid's memory.
         for v in grid.as_flattened_mut() {
             *v = Complex::new((rng.next_u32() as i32) >> 11, (rng.next_u32() as i32) >> 11);
         }
         let start = counter.now();
-        for row in grid.as_flattened_mut().chunks_exact_mut(5) {
-            if let Ok(row) = <&mut [Complex; 5]>::try_from(row) {
+        for row in grid.as_flattened_mut().chunks_exact_mut(4) {
+            if let Ok(row) = <&mut [Complex; 4]>::try_from(row) {
                 fft::forward_direct(core::hint::black_box(row));
             }
         }
         hprintln!(
-            "direct transform, 5 points, Q21: {} instructions (mean of 204)",
-            counter.now().wrapping_sub(start) / 204
+            "direct transform, 4 points, Q21: {} instructions (mean of 256)",
+            counter.now().wrapping_sub(start) / 256
         );
 
         hprintln!("");
@@ -515,7 +516,7 @@ mod budget {
             let f = &mut frame[..];
             let config = CfConfig::default();
             let (_, c, [height, box_h]) =
-                measure_cf_in((16, 5), other, f, &mut counter, config, scale);
+                measure_cf_in((16, 4), other, f, &mut counter, config, scale);
             hprintln!(
                 "{:>6} {:>6} {:>9} {:>8} {:>9} {:>9}",
                 height,

@@ -5,7 +5,7 @@
 //! ```
 //!
 //! runs it in QEMU's `mps2-an386` (Cortex-M4F), like `examples/firmware.rs`, over the same
-//! rendered QVGA RGB565 scene: `CfTracker<Rgb8x8x8, 512, 16, 5>` at its defaults, in a
+//! rendered QVGA RGB565 scene: `CfTracker<Rgb8x8x8, 512, 16, 4>` at its defaults, in a
 //! static started in place, over 60 frames. It prints per frame the counts spent in each
 //! stage and the estimate; then the mean and the largest per stage, the tracker's RAM, the
 //! stack high-water mark (it fails above the budget), the mean intersection over union of

@@ -31,7 +31,7 @@
 //! `estimate` (and its box), `model`, `config`, `particles`,
 //! `last_resampling`, `last_scale_factor`, `pixels_visited`, `weight_recoveries`,
 //! `size_covariance` and `scale_per_row`; the correlation-filter tracker
-//! (`CfTracker<Rgb8x8x8, 512, 16, 5>`, `<Luma64, 64, 8, 4>` and `<Yuv8x8x4, 256, 32, 16>`,
+//! (`CfTracker<Rgb8x8x8, 512, 16, 4>`, `<Luma64, 64, 8, 4>` and `<Yuv8x8x4, 256, 32, 16>`,
 //! every pixel format): `unstarted`, `start` (on a configuration and a box it cannot see),
 //! `step`, `step_profiled`, `estimate`, `config` and `relocate`; and the pan/tilt controller's
 //! `PanTilt::new`
@@ -221,7 +221,7 @@ mod proof {
         let mut coarse = Tracker::<Rgb8x8x4, 200, 256>::unstarted();
         let mut chroma = Tracker::<Yuv8x8x4, 1, 256>::unstarted();
         let mut grey = Tracker::<Luma64, 8, 64>::unstarted();
-        let mut cf = CfTracker::<Rgb8x8x8, 512, 16, 5>::unstarted();
+        let mut cf = CfTracker::<Rgb8x8x8, 512, 16, 4>::unstarted();
         let mut cf_small = CfTracker::<Luma64, 64, 8, 4>::unstarted();
         let mut cf_large = CfTracker::<Yuv8x8x4, 256, 32, 16>::unstarted();
         loop {

@@ -35,7 +35,7 @@ class Tracker:
     """One target, tracked frame by frame.
 
     variant: "cf" (the correlation-filter tracker: a shape template and a colour model,
-        a scale filter; 16 x 16 cells, 5 scales, at its defaults; the default and the most
+        a scale filter; 16 x 16 cells, 4 scales, at its defaults; the default and the most
         accurate), "rbpf" (Rao-Blackwellised particle filter: colour and boundary cues,
         size by a Kalman filter) or "pf" (colour particle filter: cheaper).
     particles: a particle filter's, one of PARTICLES (default 100); none for "cf".

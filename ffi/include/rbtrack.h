@@ -85,15 +85,15 @@
 #endif
 
 #if defined(RBT_POINTER_32)
-// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 5
+// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 4
 // scales, 512 RGB bins (8x8x8) (32-bit targets).
-#define RBT_TRACKER_CF_SIZE 84368
+#define RBT_TRACKER_CF_SIZE 82048
 #endif
 
 #if defined(RBT_POINTER_64)
-// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 5
+// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 4
 // scales, 512 RGB bins (8x8x8) (64-bit targets).
-#define RBT_TRACKER_CF_SIZE 84456
+#define RBT_TRACKER_CF_SIZE 82136
 #endif
 
 // Alignment of every tracker's memory, bytes.

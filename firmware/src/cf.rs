@@ -17,9 +17,9 @@ use rbtrack::window::Ellipse;
 /// Cells a side of the firmware's correlation-filter tracker (the default).
 pub const CF_GRID: usize = 16;
 /// Its scales.
-pub const CF_SCALES: usize = 5;
+pub const CF_SCALES: usize = 4;
 
-/// The firmware's correlation-filter tracker: 16 x 16 cells, 5 scales, 8x8x8 RGB colours.
+/// The firmware's correlation-filter tracker: 16 x 16 cells, 4 scales, 8x8x8 RGB colours.
 pub type FirmwareCfTracker = CfTracker<Rgb8x8x8, BINS, CF_GRID, CF_SCALES>;
 
 /// One tracked frame.

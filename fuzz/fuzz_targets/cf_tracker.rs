@@ -31,7 +31,7 @@ use rbtrack_fuzz::{
 /// Tracker sizes: binning, bins `B`, grid `G`, scales `S`.
 #[derive(Arbitrary, Debug, Clone, Copy)]
 enum Shape {
-    Rgb8x8x8B512G16S5,
+    Rgb8x8x8B512G16S4,
     Luma64B64G8S4,
     Yuv8x8x4B256G32S8,
 }
@@ -204,7 +204,7 @@ fn run<Bn: Binning, const B: usize, const G: usize, const S: usize, P: PixelForm
 
 fuzz_target!(|input: Input| {
     with_format!(input.format, P => match input.shape {
-        Shape::Rgb8x8x8B512G16S5 => run::<Rgb8x8x8, 512, 16, 5, P>(&input),
+        Shape::Rgb8x8x8B512G16S4 => run::<Rgb8x8x8, 512, 16, 4, P>(&input),
         Shape::Luma64B64G8S4 => run::<Luma64, 64, 8, 4, P>(&input),
         Shape::Yuv8x8x4B256G32S8 => run::<Yuv8x8x4, 256, 32, 8, P>(&input),
     });

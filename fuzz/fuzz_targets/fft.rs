@@ -1,6 +1,6 @@
 //! The fixed-point FFT on any samples: every 1-D size (2 to 64 points) and the 2-D grids
 //! 16 x 16, 32 x 32 and 64 x 64, forward and inverse, normalised first or not; and the
-//! direct transforms of 3, 5 and 16 points (`forward_direct`, `inverse_direct_real`); the
+//! direct transforms of 3, 4, 5 and 16 points (`forward_direct`, `inverse_direct_real`); the
 //! fuzzer's samples repeated to fill the block, or one of them everywhere.
 //!
 //! Oracles: no panic; every FFT output within `error_bound_lsb` LSB of the exact transform
@@ -28,6 +28,7 @@ enum Size {
     G32,
     G64,
     D3,
+    D4,
     D5,
     D16,
 }
@@ -187,6 +188,7 @@ fuzz_target!(|input: Input| {
         Size::G32 => two_d::<32>(&input),
         Size::G64 => two_d::<64>(&input),
         Size::D3 => direct::<3>(&input),
+        Size::D4 => direct::<4>(&input),
         Size::D5 => direct::<5>(&input),
         Size::D16 => direct::<16>(&input),
     }

@@ -334,10 +334,10 @@ pub fn start(options: &Options, frame: &Frame, init: &BBox) -> Result<Box<dyn Ru
 /// Cells a side of the host's correlation-filter tracker by default.
 pub const CF_GRID: usize = 16;
 /// Its scales by default.
-pub const CF_SCALES: usize = 5;
+pub const CF_SCALES: usize = 4;
 /// The (grid, scales) the host runs the core correlation-filter tracker at: the default,
 /// then the others `examples/budget.rs` prices.
-pub const CF_SHAPES: [(usize, usize); 5] = [(CF_GRID, CF_SCALES), (16, 8), (16, 4), (8, 8), (8, 4)];
+pub const CF_SHAPES: [(usize, usize); 5] = [(CF_GRID, CF_SCALES), (16, 5), (16, 8), (8, 8), (8, 4)];
 
 /// The core's correlation-filter tracker behind [`Run`], on the heap (it is large).
 struct CfRunner<Bn: Binning, const B: usize, const G: usize, const S: usize> {

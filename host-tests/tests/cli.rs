@@ -1762,8 +1762,9 @@ fn budget_output(factor: [f64; 5]) -> String {
          G  S cell area ring  size_of B  features   filter   colour    scale    learn     total       max      lost redetect  box h\n",
     );
     let configurations = [
+        (16, 4, 4, 512, 2),
+        (16, 4, 2, 512, 2),
         (16, 5, 4, 512, 2),
-        (16, 5, 2, 512, 2),
         (16, 8, 4, 512, 2),
         (16, 4, 4, 256, 2),
         (8, 8, 8, 512, 2),
@@ -1791,7 +1792,7 @@ fn budget_output(factor: [f64; 5]) -> String {
     text +=
         "\ncorrelation-filter tracker against target size, defaults (mean target height and box height, px):\n";
     text += "height  box h  features    scale     total       max\n";
-    let defaults = budget_row(16, 5, 4, 512, 2);
+    let defaults = budget_row(16, 4, 4, 512, 2);
     for height in [19, 40, 81, 122] {
         let stages = estimate(&defaults, Target::scene(f64::from(height) / 54.0));
         let total: u64 = stages.iter().sum();

@@ -23,7 +23,7 @@ const DEFAULT_PARTICLES: usize = 100;
 const DEFAULT_SEED: u64 = 1;
 
 /// The core tracker behind a [`Tracker`]: the correlation-filter tracker at its defaults
-/// (`RgbCfTracker`: 16 x 16 cells, 5 scales, 512 RGB bins), or a particle filter.
+/// (`RgbCfTracker`: 16 x 16 cells, 4 scales, 512 RGB bins), or a particle filter.
 enum Engine {
     Correlation(Box<dyn CfTrack + Send + Sync>),
     Particles {

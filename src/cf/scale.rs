@@ -47,10 +47,10 @@
 //! 2 LSB of Q16.16 for `|x| <= 8` at the steps allowed (1.2 measured).
 //!
 //! Against the host's f64 filter on the same (Q15) features of its test scene, the
-//! responses agree within 3.0e-5 and the size factors within 8.8e-6 (5 scales of 1.15 and
+//! responses agree within 3.0e-5 and the size factors within 8.8e-6 (4 scales of 1.18 and
 //! 8 of 1.08); each on its own features of the frame, the factors within 1.2e-5
 //! (`host-tests/tests/cf_scale.rs`). Stack: 640 bytes of cells for one sample, a few
-//! hundred more; the filter itself is 11,656 bytes for `S = 5` on a 32-bit target.
+//! hundred more; the filter itself is 9,336 bytes for `S = 4` on a 32-bit target.
 
 use super::features::{Cell, Extractor, Sampling, CHANNELS};
 use crate::fft::{forward_direct, inverse_direct_real, mirrored, Complex, MAX_DIRECT_POINTS};
@@ -183,9 +183,9 @@ impl Grid {
 
 /// The scale filter, `S` scales (`2..=16`).
 ///
-/// 11,656 bytes for `S = 5` on a 32-bit target (11,688 on a 64-bit host; 18,616 for
-/// `S = 8`): the numerator and the last samples' spectra, packed in pairs,
-/// `MAX_FEATURES / 2 x S` complex each (5,760 bytes at `S = 5`), and `S` values of the
+/// 9,336 bytes for `S = 4` on a 32-bit target (9,368 on a 64-bit host; 11,656 for `S = 5`,
+/// 18,616 for `S = 8`): the numerator and the last samples' spectra, packed in pairs,
+/// `MAX_FEATURES / 2 x S` complex each (4,608 bytes at `S = 4`), and `S` values of the
 /// rest.
 #[derive(Clone, Debug)]
 pub struct ScaleFilter<const S: usize> {

@@ -1,6 +1,7 @@
 //! The direct transform of a short row of any length `N` from 2 to [`MAX_DIRECT_POINTS`]:
 //! `X_k = sum_j x_j e^(-2 pi i j k / N)` summed term by term, for rows too short for the
-//! fast transform to pay and of lengths it does not take (the scale filter's 5 scales).
+//! fast transform to pay (the scale filter's 4 scales by default) and of lengths it does not
+//! take (5, say).
 //!
 //! Bins `k` and `N - k` share their sums: with `A_k = sum_j x_j cos(2 pi j k / N)` and
 //! `B_k = sum_j x_j sin(2 pi j k / N)` (complex), `X_k = A_k - i B_k` and

@@ -57,7 +57,7 @@
 //! transform of 16 x 16 Q16 samples (the correlation filter's) 20,640, 20.2 a radix-2
 //! butterfly (1,024 of them); of full-scale samples, shifting at every stage, 40,600; of
 //! 32 x 32 full-scale samples 161,720 (the scale filter's rows take the direct
-//! transform instead: 599 a 5-point row of Q21 samples). The butterflies run along runs of values in loops of
+//! transform instead: 572 a 4-point row of Q21 samples). The butterflies run along runs of values in loops of
 //! two runs each: a radix-2 butterfly loads, stores and adds a pair of values, a radix-4
 //! one makes two such passes (a loop over four runs takes more registers than the core
 //! has, and the compiler then spills), with three multiplies where four radix-2

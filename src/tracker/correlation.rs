@@ -192,7 +192,7 @@ impl CfConfig {
             inner_padding: q(0.2),
             merge: q(0.3),
             scale: ScaleSettings {
-                step: q(1.15),
+                step: q(1.18),
                 sigma: q(0.25),
                 lambda: 4_294_967,
                 area: 512,

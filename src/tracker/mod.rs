@@ -161,9 +161,9 @@ pub type Rgb256Tracker<const N: usize> = Tracker<Rgb8x8x4, N, 256>;
 pub type YuvTracker<const N: usize> = Tracker<Yuv8x8x4, N, 256>;
 /// A tracker of `N` particles on 64-level grey histograms.
 pub type LumaTracker<const N: usize> = Tracker<Luma64, N, 64>;
-/// The correlation-filter tracker at its defaults: 16 x 16 cells, 5 scales, 8x8x8 RGB
-/// colour histograms (84,360 bytes on a 32-bit target).
-pub type RgbCfTracker = CfTracker<Rgb8x8x8, 512, 16, 5>;
+/// The correlation-filter tracker at its defaults: 16 x 16 cells, 4 scales, 8x8x8 RGB
+/// colour histograms (82,040 bytes on a 32-bit target).
+pub type RgbCfTracker = CfTracker<Rgb8x8x8, 512, 16, 4>;
 
 /// A tracker of `N` particles (`1..=65535`) on colour histograms of `B` bins laid out by
 /// the binning `Bn` (`Bn::BINS == B`, checked at compile time).

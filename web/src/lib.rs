@@ -5,7 +5,7 @@
 //! The page hands each frame over as the RGBA bytes of a canvas; [`Frames`] converts them
 //! once to RGB888, the core's [`Rgb888`] view, and a [`Session`] tracks it with the RBPF
 //! or the colour PF of 25 to 200 particles (512 colour bins), or the correlation-filter
-//! tracker (`CfTracker`, 16 x 16 cells, 5 scales, as `rbtrack --tracker cf` and the
+//! tracker (`CfTracker`, 16 x 16 cells, 4 scales, as `rbtrack --tracker cf` and the
 //! correlation-filter firmware run it). [`firmware_checksum`] and [`cf_firmware_checksum`]
 //! run the example firmwares' synthetic scene and return the checksums QEMU prints.
 //!

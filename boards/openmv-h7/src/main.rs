@@ -14,7 +14,7 @@
 //! - **Cache**: the I- and D-caches are on; after each capture the buffer's lines are
 //!   invalidated, so the core reads what the DMA wrote.
 //! - **Tracker**: the correlation-filter tracker at its defaults ([`RgbCfTracker`]: 16 x 16
-//!   cells, 5 scales, 512 RGB bins), on an [`ImageView`] over the DMA buffer (no copy),
+//!   cells, 4 scales, 512 RGB bins), on an [`ImageView`] over the DMA buffer (no copy),
 //!   started on a fixed 48 x 64 px box in the centre of the first frame. A product would
 //!   take the box from a detector or a host command. For a particle filter instead (fewer
 //!   cycles, less accurate), make [`Tracker`] an `rbtrack::RgbTracker<100>`, start it with

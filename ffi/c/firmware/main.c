@@ -224,7 +224,7 @@ static rbt_error track_frames(rbt_tracker *tracker, const rbt_image *image, uint
 
 #ifdef CF_FIRMWARE
 int main(void) {
-    semihosting_write("rbtrack C correlation-filter firmware: 320x240 RGB565 scene, seed 1, 60 frames; 16 x 16 cells, 5 scales\n");
+    semihosting_write("rbtrack C correlation-filter firmware: 320x240 RGB565 scene, seed 1, 60 frames; 16 x 16 cells, 4 scales\n");
     rbt_tracker *tracker;
     rbt_error err = rbt_tracker_place_cf(tracker_memory, sizeof tracker_memory, &tracker);
     if (err != RBT_OK) return fail("place", err);

@@ -228,14 +228,14 @@ pub const RBT_TRACKER_LUMA_100_SIZE: usize = 32048;
 /// Bytes of memory for a tracker of 100 particles on 64 grey levels (64-bit targets).
 #[cfg(target_pointer_width = "64")]
 pub const RBT_TRACKER_LUMA_100_SIZE: usize = 32080;
-/// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 5
+/// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 4
 /// scales, 512 RGB bins (8x8x8) (32-bit targets).
 #[cfg(target_pointer_width = "32")]
-pub const RBT_TRACKER_CF_SIZE: usize = 84368;
-/// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 5
+pub const RBT_TRACKER_CF_SIZE: usize = 82048;
+/// Bytes of memory for the correlation-filter tracker at its defaults: 16 x 16 cells, 4
 /// scales, 512 RGB bins (8x8x8) (64-bit targets).
 #[cfg(target_pointer_width = "64")]
-pub const RBT_TRACKER_CF_SIZE: usize = 84456;
+pub const RBT_TRACKER_CF_SIZE: usize = 82136;
 /// Alignment of every tracker's memory, bytes.
 pub const RBT_TRACKER_ALIGN: usize = 8;
 

@@ -193,7 +193,7 @@ fn parse(text: &str) -> Vec<Row> {
                 });
             }
             ("sizes", &[height, box_h, f, sc, total, _]) => {
-                let params = budget_row(16, 5, 4, 512, 2);
+                let params = budget_row(16, 4, 4, 512, 2);
                 let target = Target::scene(height / SCENE_HEIGHT).tracked(box_h);
                 rows.push(Row {
                     label: format!("defaults, {height} px tall"),

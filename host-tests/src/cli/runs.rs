@@ -33,7 +33,7 @@ pub struct RunSpec {
 }
 
 impl RunSpec {
-    /// The tracker and its size, as plots name it: `cf, 16 x 16 cells, 5 scales` for a
+    /// The tracker and its size, as plots name it: `cf, 16 x 16 cells, 4 scales` for a
     /// correlation-filter tracker, `pf, 100 particles` for a particle filter of
     /// `particles`.
     pub fn label(&self, particles: usize) -> String {
@@ -464,7 +464,7 @@ mod tests {
             start: Start::GIVEN,
         };
         let cf = spec(TrackerKind::Cf, Some(CoreCf::default()));
-        assert_eq!(cf.label(100), "cf, 16 x 16 cells, 5 scales");
+        assert_eq!(cf.label(100), "cf, 16 x 16 cells, 4 scales");
         assert_eq!(spec(TrackerKind::Pf, None).label(50), "pf, 50 particles");
     }
 

@@ -28,7 +28,7 @@ const FRAMES: u32 = 30;
 /// The frame buffer, RGB565 little-endian: 153,600 B of `.bss`.
 static FRAME: ConstStaticCell<[u8; WIDTH * HEIGHT * 2]> =
     ConstStaticCell::new([0; WIDTH * HEIGHT * 2]);
-/// The tracker, 16 x 16 cells, 5 scales and 512 colour bins: 84 KB of `.bss`, never on the
+/// The tracker, 16 x 16 cells, 4 scales and 512 colour bins: 82 KB of `.bss`, never on the
 /// stack.
 static TRACKER: ConstStaticCell<RgbCfTracker> = ConstStaticCell::new(RgbCfTracker::unstarted());
 
