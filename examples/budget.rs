@@ -77,7 +77,7 @@ mod budget {
 
     /// Correlation-filter configurations: cells a side (`G`), scales (`S`), cell side (px),
     /// the scale model's largest area (px^2), ring regions searched while lost. The first is
-    /// the default; `8 4 4 128 0` the budget configuration (docs/accuracy.md).
+    /// the default; `8 4 4 256 2` the budget configuration (docs/accuracy.md).
     const CF_CONFIGS: [(usize, usize, usize, u32, usize); 12] = [
         (16, 4, 4, 512, 2),
         (16, 4, 4, 512, 0),
