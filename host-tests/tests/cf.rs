@@ -149,10 +149,10 @@ fn one_step_agrees_with_the_f64_reference_on_real_frames() {
 /// (seeds 1-3), coasting with its ring search (2 regions a frame, the default), both find the
 /// walker again within 10 frames of him being fully visible on every seed; the defaults
 /// (no coasting) on at most one; both report him `Lost` by the third frame he is wholly
-/// covered (`Uncertain` while partly seen). The reference reports him `Lost` on every
-/// hidden frame from then on; the integer tracker on all but at most one a run (seed 1
-/// without coasting: as he re-emerges, 15 % seen, its search ends for a frame on the
-/// occluder, `Tracking` at confidence 0.56, and resumes the next).
+/// covered (`Uncertain` while partly seen), and `Lost` on every hidden frame from then on
+/// but at most one a run (the search's margin on the occluder, noisy on a flat response,
+/// can reach the `Uncertain` threshold for a frame: the reference on seed 2 without
+/// coasting).
 #[test]
 fn re_detection_and_coasting_follow_the_f64_reference() {
     let mut found_without = 0;
@@ -163,10 +163,10 @@ fn re_detection_and_coasting_follow_the_f64_reference() {
             cf.config.coast = coast;
             let [core, reference] = both(cf).map(|o| recovery(&scene, &o).expect("starts"));
             println!("coast {coast}, seed {seed}: integer {core:?}, f64 {reference:?}");
-            for (r, flickers) in [(core, 1), (reference, 0)] {
+            for r in [core, reference] {
                 assert!(r.covered_until_lost <= 2, "coast {coast}, seed {seed}");
                 let not_lost = r.hidden - (r.lost_while_hidden + r.hidden_until_lost);
-                assert!(not_lost <= flickers, "coast {coast}, seed {seed}: {r:?}");
+                assert!(not_lost <= 1, "coast {coast}, seed {seed}: {r:?}");
             }
             match coast {
                 true => assert!(core.within(10) && reference.within(10), "seed {seed}"),

@@ -146,7 +146,7 @@ def test_a_crop_is_read_in_place_and_tracked_as_its_copy():
 
 @pytest.mark.parametrize("make", [dict(), dict(variant="pf", particles=50)])
 def test_ok_is_false_while_lost(make):
-    # Every tracker shares the thresholds: "uncertain" below 0.5, "lost" below 0.1.
+    # Every tracker shares the thresholds: "uncertain" below 0.5, "lost" below 0.2.
     tracker = rbtrack.Tracker(**make)
     tracker.init(square(20), (20, 16, 16, 16))
     assert tracker.update(square(21))[0] is True

@@ -109,15 +109,15 @@ pub const IDENTITY: Calibration = table([
 
 /// The correlation-filter tracker's table (score: the merged response margin).
 pub const CORRELATION: Calibration = table([
-    (0, 41),
-    (19, 89),
-    (30, 201),
-    (56, 376),
-    (71, 511),
-    (84, 592),
-    (109, 681),
-    (130, 836),
-    (186, 936),
+    (0, 38),
+    (20, 101),
+    (34, 196),
+    (46, 297),
+    (56, 461),
+    (82, 583),
+    (115, 688),
+    (133, 842),
+    (181, 943),
     (1000, 1000),
 ]);
 
