@@ -276,7 +276,8 @@ impl Extractor {
         let Ok([own, other]) = self.hist.get_disjoint_mut([own, other]) else {
             return;
         };
-        for (x, &column) in self.columns.iter().enumerate().take(w) {
+        for x in 0..w.min(MAX_PX) {
+            let column = self.columns[x];
             // Indices below `STRIDE`: `x < MAX_PX`.
             let gx = cur[x + 2] - cur[x];
             let gy = below[x + 1] - above[x + 1];
