@@ -80,10 +80,11 @@ fn after_the_loss(
     Some((lost_at, counts))
 }
 
-/// On `KiteSurf` the surfer is lost from the first box shifted 2 px right (the 7-start
-/// protocol's `right2`); relocated onto the ground-truth box, the tracker is on him on at
-/// least 15 of the next 20 frames, where left alone it is on at most 5 (skipped without
-/// ../shared/data). `Girl`'s figures are printed too:
+/// On `KiteSurf` the surfer is lost from some first box, the ground truth's shifted 2 px
+/// (the 7-start protocol's `left2`, `right2`, `up2`, `down2`, the first that loses him);
+/// relocated onto the ground-truth box, the tracker is on him on at least 15 of the next
+/// 20 frames, where left alone it is on at most 5 (skipped without ../shared/data).
+/// `Girl`'s figures are printed too:
 /// there the tracker lost her to a man's face it went on learning, and the relocated
 /// tracker, whose models hold that face, does worse than one started afresh.
 #[test]
@@ -92,8 +93,10 @@ fn a_detectors_box_brings_the_lost_target_back() {
         println!("SKIPPED: no ../shared/data folder with the real sequences");
         return;
     };
-    let (_, [relocated, alone, _]) =
-        after_the_loss(&data, "KiteSurf", (2.0, 0.0)).expect("KiteSurf's surfer is lost");
+    let (_, [relocated, alone, _]) = [(-2.0, 0.0), (2.0, 0.0), (0.0, -2.0), (0.0, 2.0)]
+        .into_iter()
+        .find_map(|shift| after_the_loss(&data, "KiteSurf", shift))
+        .expect("KiteSurf's surfer is lost from one of the shifted boxes");
     assert!(relocated >= 15 && alone <= 5, "{relocated} {alone}");
     after_the_loss(&data, "Girl", (0.0, 0.0));
 }
